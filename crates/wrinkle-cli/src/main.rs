@@ -1,0 +1,62 @@
+//! The `wrinkle` command: parses the command line and hands each subcommand to its own file.
+
+mod bench;
+mod bumpgen;
+mod output;
+mod render;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "wrinkle", version, about = "Texture mapping and Blinn bump mapping: a fast CPU renderer and toolkit")]
+#[command(after_help = "Examples:\n  wrinkle render -o cover.png\n  wrinkle render scenes/grid_patch.toml -o grid.png --spp 16\n  wrinkle bumpgen bricks -o bricks.png --size 512\n  wrinkle bench --frames 10")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene (or the embedded 1978 cover scene) to PNG or EXR.
+    Render(render::RenderArgs),
+    /// Write a generated bump function (grid, text, rivets, bricks) as a 16-bit PNG.
+    Bumpgen(bumpgen::BumpgenArgs),
+    /// Time the rendering of a scene in-process: median milliseconds per frame.
+    Bench(bench::BenchArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Render(a) => render::run(a),
+        Command::Bumpgen(a) => bumpgen::run(a),
+        Command::Bench(a) => bench::run(a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(exit_code(&e))
+        }
+    }
+}
+
+/// 2 when the request itself is wrong (arguments, scene, input files), 1 when the job failed (writing output).
+fn exit_code(e: &wrinkle::Error) -> u8 {
+    match e {
+        wrinkle::Error::Write { .. } => 1,
+        _ => 2,
+    }
+}
+
+/// Sets the size of the worker pool (all cores when not given).
+fn set_threads(threads: Option<usize>) -> wrinkle::Result<()> {
+    if let Some(n) = threads {
+        if n == 0 || n > 1024 {
+            return Err(wrinkle::Error::Invalid(format!("--threads must be between 1 and 1024, got {n}")));
+        }
+        rayon::ThreadPoolBuilder::new().num_threads(n).build_global().map_err(|e| wrinkle::Error::Invalid(format!("--threads: {e}")))?;
+    }
+    Ok(())
+}

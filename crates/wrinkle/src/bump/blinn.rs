@@ -1,0 +1,125 @@
+//! The perturbed normal of Blinn (1978), sections 2 and 4.
+//!
+//! The displaced surface is P' = P + F N/|N|. With the approximation that F is negligibly small,
+//!     N' = N + D,   D = (Fu (N x Pv) - Fv (N x Pu)) / |N|
+//! (the extracted text lost the "D" of "N' = N + D"; it follows from the expansion just above it).
+//! The scale-invariant variant replaces D by D' = a |N| / |D| D with a = sqrt(Fu^2 + Fv^2).
+//! The full formula keeps every term: P'u = Pu + Fu N^ + F N^u, P'v = Pv + Fv N^ + F N^v, N' = P'u x P'v,
+//! the exact normal of the displaced surface.
+
+use crate::geometry::SurfaceFrame;
+use glam::Vec3;
+
+/// Which normal a bump function produces.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BumpFormula {
+    /// N' = N + D, Blinn's approximation.
+    Blinn,
+    /// N' = N + D' with |D'| = sqrt(Fu^2 + Fv^2) |N| (section 4): the tilt no longer depends on the object's size.
+    Invariant,
+    /// The exact normal of P + F N^, with N^u and N^v from the surface's second derivatives.
+    Full,
+}
+
+/// F and its derivatives with respect to the surface parameters u and v.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Perturbation {
+    pub f: f32,
+    pub fu: f32,
+    pub fv: f32,
+}
+
+/// Blinn's D = (Fu (N x Pv) - Fv (N x Pu)) / |N|.
+#[inline]
+pub fn blinn_d(n: Vec3, pu: Vec3, pv: Vec3, fu: f32, fv: f32) -> Vec3 {
+    (fu * n.cross(pv) - fv * n.cross(pu)) / n.length()
+}
+
+/// The perturbed (unnormalised) normal N' at a surface frame.
+#[inline]
+pub fn perturbed_normal(frame: &SurfaceFrame, bump: Perturbation, formula: BumpFormula) -> Vec3 {
+    let n = frame.pu.cross(frame.pv);
+    match formula {
+        BumpFormula::Blinn => n + blinn_d(n, frame.pu, frame.pv, bump.fu, bump.fv),
+        BumpFormula::Invariant => {
+            let d = blinn_d(n, frame.pu, frame.pv, bump.fu, bump.fv);
+            let len_d = d.length();
+            if len_d == 0.0 {
+                return n;
+            }
+            let a = bump.fu.hypot(bump.fv);
+            n + d * (a * n.length() / len_d)
+        }
+        BumpFormula::Full => full_normal(frame, bump),
+    }
+}
+
+/// The derivatives of the unit normal N^ = N/|N| along u and v, from the second derivatives of P.
+pub fn unit_normal_derivatives(frame: &SurfaceFrame) -> (Vec3, Vec3) {
+    let n = frame.pu.cross(frame.pv);
+    let len = n.length();
+    let nh = n / len;
+    let nu = frame.puu.cross(frame.pv) + frame.pu.cross(frame.puv);
+    let nv = frame.puv.cross(frame.pv) + frame.pu.cross(frame.pvv);
+    // d(N/|N|) = (dN - N^ (N^ . dN)) / |N|
+    ((nu - nh * nh.dot(nu)) / len, (nv - nh * nh.dot(nv)) / len)
+}
+
+/// The exact normal of the displaced surface P + F N^ (Blinn's expansion before the approximation).
+pub fn full_normal(frame: &SurfaceFrame, bump: Perturbation) -> Vec3 {
+    let nh = frame.pu.cross(frame.pv).normalize();
+    let (nhu, nhv) = unit_normal_derivatives(frame);
+    let pu = frame.pu + bump.fu * nh + bump.f * nhu;
+    let pv = frame.pv + bump.fv * nh + bump.f * nhv;
+    pu.cross(pv)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Surface;
+
+    #[test]
+    fn flat_unit_patch_gives_the_papers_d() {
+        // Section 4: X = u, Y = v, Z = 0 gives N = (0,0,1), D = (-Fu, -Fv, 0), tan theta = sqrt(Fu^2 + Fv^2).
+        let patch = Surface::Patch { corners: [Vec3::ZERO, Vec3::X, Vec3::X + Vec3::Y, Vec3::Y] };
+        let f = patch.frame(0.3, 0.6);
+        let b = Perturbation { f: 0.2, fu: 0.3, fv: -0.4 };
+        let n = f.pu.cross(f.pv);
+        assert_eq!(n, Vec3::Z);
+        let d = blinn_d(n, f.pu, f.pv, b.fu, b.fv);
+        assert!((d - Vec3::new(-0.3, 0.4, 0.0)).length() < 1e-7);
+        // On a flat patch the approximation is exact: every form agrees.
+        let blinn = perturbed_normal(&f, b, BumpFormula::Blinn);
+        let full = perturbed_normal(&f, b, BumpFormula::Full);
+        let inv = perturbed_normal(&f, b, BumpFormula::Invariant);
+        assert!((blinn - full).length() < 1e-6 && (blinn - inv).length() < 1e-6);
+    }
+
+    #[test]
+    fn unit_normal_derivatives_match_finite_differences() {
+        let s = Surface::Torus { major_radius: 1.0, minor_radius: 0.4 };
+        let h = 1e-3;
+        let nh = |u: f32, v: f32| {
+            let f = s.frame(u, v);
+            f.pu.cross(f.pv).normalize()
+        };
+        let (u, v) = (0.21, 0.37);
+        let (a, b) = unit_normal_derivatives(&s.frame(u, v));
+        let fu = (nh(u + h, v) - nh(u - h, v)) / (2.0 * h);
+        let fv = (nh(u, v + h) - nh(u, v - h)) / (2.0 * h);
+        assert!((a - fu).length() < 1e-2 * fu.length().max(1.0), "{a} {fu}");
+        assert!((b - fv).length() < 1e-2 * fv.length().max(1.0), "{b} {fv}");
+    }
+
+    #[test]
+    fn invariant_tilt_is_a() {
+        let s = Surface::Sphere { radius: 3.0 };
+        let f = s.frame(0.4, 0.55);
+        let b = Perturbation { f: 0.0, fu: 0.7, fv: 0.2 };
+        let n = f.pu.cross(f.pv);
+        let np = perturbed_normal(&f, b, BumpFormula::Invariant);
+        let tan = (np - n).length() / n.length();
+        assert!((tan - 0.7f32.hypot(0.2)).abs() < 1e-5);
+    }
+}

@@ -1,0 +1,262 @@
+//! Bump functions as tables (Blinn section 3): F looked up by nearest (FVAL) or bilinear interpolation,
+//! Fu and Fv by central differences with E = one table step, periodic wrap, and a MIP pyramid of the
+//! table for filtering the bump function by the pixel footprint (section 5).
+//!
+//! Blinn's central difference of a lookup shifted by exactly one table step lands on the neighbouring
+//! texels with the same interpolation weights, so
+//!     (FVAL(u+E) - FVAL(u-E)) / 2E  ==  lookup of the table G[i] = (T[i+1] - T[i-1]) / 2E.
+//! Each level therefore stores (T, G_u, G_v) per texel, and one lookup gives F, Fu and Fv together,
+//! exactly equal to Blinn's three lookups (nearest or bilinear alike).
+//!
+//! Texel (i,j) has its centre at ((i+0.5)/W, (j+0.5)/H), j counted from the bottom (the project's
+//! convention). Blinn's FORTRAN bilinear FVAL puts table entries at the cell corners i/W instead: the same
+//! function shifted by half a step, which we do not copy so that nearest and bilinear agree at texel centres.
+
+use crate::image::GreyImage;
+use crate::texture::wrap01;
+
+/// How F is read from the table between texel centres.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Interp {
+    /// Blinn's first FVAL: constant squares one table step wide.
+    Nearest,
+    /// Blinn's second FVAL: bilinear interpolation.
+    Bilinear,
+}
+
+/// F and its derivatives with respect to the table coordinates (s,t), one period per unit.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BumpSample {
+    pub f: f32,
+    pub fs: f32,
+    pub ft: f32,
+}
+
+struct Level {
+    width: usize,
+    height: usize,
+    /// (T, dT/ds, dT/dt, unused), row 0 at the bottom (t near 0).
+    texels: Vec<[f32; 4]>,
+}
+
+/// A periodic bump table with its MIP pyramid.
+pub struct BumpTable {
+    levels: Vec<Level>,
+}
+
+impl BumpTable {
+    /// The table from a grey image (row 0 at the top, as images are stored).
+    pub fn new(image: &GreyImage) -> Self {
+        let (w, h) = (image.width, image.height);
+        let mut values: Vec<f32> = Vec::with_capacity(w * h);
+        for j in 0..h {
+            values.extend_from_slice(image.row(h - 1 - j));
+        }
+        let mut levels = vec![Level::with_gradients(w, h, &values)];
+        let (mut w, mut h) = (w, h);
+        while w > 1 || h > 1 {
+            let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));
+            values = box_resample(&values, w, h, nw, nh);
+            levels.push(Level::with_gradients(nw, nh, &values));
+            (w, h) = (nw, nh);
+        }
+        BumpTable { levels }
+    }
+
+    pub fn width(&self) -> usize {
+        self.levels[0].width
+    }
+
+    pub fn height(&self) -> usize {
+        self.levels[0].height
+    }
+
+    pub fn level_count(&self) -> usize {
+        self.levels.len()
+    }
+
+    /// F at (s,t) on level 0, the way Blinn's FVAL does it (without derivatives).
+    pub fn fval(&self, s: f32, t: f32, interp: Interp) -> f32 {
+        self.levels[0].lookup(s, t, interp)[0]
+    }
+
+    /// F, Fs, Ft at (s,t). `level` selects the MIP level (fractional: linear between two levels);
+    /// 0 is the full-resolution table, where E is one step of the table.
+    #[inline]
+    pub fn sample(&self, s: f32, t: f32, interp: Interp, level: f32) -> BumpSample {
+        let last = (self.levels.len() - 1) as f32;
+        let level = level.clamp(0.0, last);
+        let l0 = level.floor() as usize;
+        let frac = level - l0 as f32;
+        let mut v = self.levels[l0].lookup(s, t, interp);
+        if frac > 0.0 {
+            let v1 = self.levels[l0 + 1].lookup(s, t, interp);
+            for k in 0..3 {
+                v[k] += frac * (v1[k] - v[k]);
+            }
+        }
+        BumpSample { f: v[0], fs: v[1], ft: v[2] }
+    }
+}
+
+impl Level {
+    fn with_gradients(width: usize, height: usize, values: &[f32]) -> Level {
+        let at = |i: isize, j: isize| values[(j.rem_euclid(height as isize) as usize) * width + i.rem_euclid(width as isize) as usize];
+        // Central differences with E = one step: (T[i+1] - T[i-1]) / (2 / W).
+        let (hw, hh) = (width as f32 * 0.5, height as f32 * 0.5);
+        let mut texels = Vec::with_capacity(width * height);
+        for j in 0..height as isize {
+            for i in 0..width as isize {
+                let gs = (at(i + 1, j) - at(i - 1, j)) * hw;
+                let gt = (at(i, j + 1) - at(i, j - 1)) * hh;
+                texels.push([at(i, j), gs, gt, 0.0]);
+            }
+        }
+        Level { width, height, texels }
+    }
+
+    #[inline]
+    fn lookup(&self, s: f32, t: f32, interp: Interp) -> [f32; 4] {
+        let (w, h) = (self.width, self.height);
+        match interp {
+            Interp::Nearest => {
+                // FVAL: IU = IFIX(W * U), masked to the table (periodic).
+                let i = ((wrap01(s) * w as f32) as usize).min(w - 1);
+                let j = ((wrap01(t) * h as f32) as usize).min(h - 1);
+                self.texels[j * w + i]
+            }
+            Interp::Bilinear => {
+                let x = wrap01(s) * w as f32 - 0.5;
+                let y = wrap01(t) * h as f32 - 0.5;
+                let (x0, y0) = (x.floor(), y.floor());
+                let (fx, fy) = (x - x0, y - y0);
+                // x0 >= -1, so adding the width keeps the index positive before the wrap.
+                let i0 = (x0 as isize + w as isize) as usize % w;
+                let j0 = (y0 as isize + h as isize) as usize % h;
+                let (i1, j1) = (if i0 + 1 == w { 0 } else { i0 + 1 }, if j0 + 1 == h { 0 } else { j0 + 1 });
+                let (a, b) = (self.texels[j0 * w + i0], self.texels[j0 * w + i1]);
+                let (c, d) = (self.texels[j1 * w + i0], self.texels[j1 * w + i1]);
+                std::array::from_fn(|k| {
+                    let bottom = a[k] + fx * (b[k] - a[k]);
+                    let top = c[k] + fx * (d[k] - c[k]);
+                    bottom + fy * (top - bottom)
+                })
+            }
+        }
+    }
+}
+
+/// Box-filters a periodic `w` x `h` table to `nw` x `nh` (any sizes): each target texel averages the
+/// source area it covers, with fractional weights at its borders.
+fn box_resample(src: &[f32], w: usize, h: usize, nw: usize, nh: usize) -> Vec<f32> {
+    let weights = |n: usize, nn: usize| -> Vec<Vec<(usize, f32)>> {
+        let ratio = n as f64 / nn as f64;
+        (0..nn)
+            .map(|k| {
+                let (lo, hi) = (k as f64 * ratio, (k + 1) as f64 * ratio);
+                let mut taps = Vec::new();
+                let mut x = lo.floor() as usize;
+                while (x as f64) < hi {
+                    let cover = (hi.min(x as f64 + 1.0) - lo.max(x as f64)) / ratio;
+                    if cover > 0.0 {
+                        taps.push((x.min(n - 1), cover as f32));
+                    }
+                    x += 1;
+                }
+                taps
+            })
+            .collect()
+    };
+    let (wx, wy) = (weights(w, nw), weights(h, nh));
+    let mut out = Vec::with_capacity(nw * nh);
+    for ty in &wy {
+        for tx in &wx {
+            let mut sum = 0.0;
+            for &(y, ky) in ty {
+                for &(x, kx) in tx {
+                    sum += ky * kx * src[y * w + x];
+                }
+            }
+            out.push(sum);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::image::Image;
+
+    /// A 4x4 table with distinct values; row 0 of the image is the top.
+    fn table() -> (GreyImage, BumpTable) {
+        let img = Image::from_fn(4, 4, |x, y| (x + 4 * y) as f32 / 16.0);
+        let t = BumpTable::new(&img);
+        (img, t)
+    }
+
+    /// The image value of texel (i, j counted from the bottom).
+    fn texel(img: &GreyImage, i: usize, j: usize) -> f32 {
+        img.get(i % 4, 3 - (j % 4))
+    }
+
+    #[test]
+    fn nearest_gives_constant_squares_one_step_wide() {
+        let (img, t) = table();
+        let e = 1e-4;
+        for j in 0..4 {
+            for i in 0..4 {
+                let want = texel(&img, i, j);
+                for (ds, dt) in [(e, e), (0.25 - e, e), (e, 0.25 - e), (0.125, 0.2)] {
+                    let (s, tt) = (i as f32 / 4.0 + ds, j as f32 / 4.0 + dt);
+                    assert_eq!(t.fval(s, tt, Interp::Nearest), want, "({s},{tt})");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn periodic_wrap_and_replication() {
+        let (img, t) = table();
+        let e = 1e-3;
+        // Just below 1 is the last column, just above 1 (or 0) is the first.
+        assert_eq!(t.fval(1.0 - e, 0.1, Interp::Nearest), texel(&img, 3, 0));
+        assert_eq!(t.fval(1.0 + e, 0.1, Interp::Nearest), texel(&img, 0, 0));
+        assert_eq!(t.fval(-e, 0.1, Interp::Nearest), texel(&img, 3, 0));
+        // Replicated three times: u' = 3u lands in the same cell pattern.
+        for k in 0..3 {
+            assert_eq!(t.fval(k as f32 + 0.6, 0.6, Interp::Nearest), texel(&img, 2, 2));
+        }
+        // Bilinear across the wrap: half way between column 3 and column 0.
+        let b = t.fval(1.0, 0.125, Interp::Bilinear);
+        assert!((b - 0.5 * (texel(&img, 3, 0) + texel(&img, 0, 0))).abs() < 1e-6);
+    }
+
+    /// The stored gradient equals Blinn's three-lookup central difference, for both interpolations.
+    #[test]
+    fn derivatives_equal_blinns_central_differences() {
+        let img = Image::from_fn(8, 8, |x, y| ((x * 7 + y * 3) % 5) as f32 / 4.0 + 0.1 * (x as f32).sin());
+        let t = BumpTable::new(&img);
+        let (es, et) = (1.0 / 8.0, 1.0 / 8.0);
+        for interp in [Interp::Nearest, Interp::Bilinear] {
+            for &(s, tt) in &[(0.13, 0.77), (0.51, 0.02), (0.97, 0.49), (0.3333, 0.6666)] {
+                let got = t.sample(s, tt, interp, 0.0);
+                let fs = (t.fval(s + es, tt, interp) - t.fval(s - es, tt, interp)) / (2.0 * es);
+                let ft = (t.fval(s, tt + et, interp) - t.fval(s, tt - et, interp)) / (2.0 * et);
+                assert!((got.fs - fs).abs() < 1e-4, "{interp:?} fs {} vs {fs}", got.fs);
+                assert!((got.ft - ft).abs() < 1e-4, "{interp:?} ft {} vs {ft}", got.ft);
+                assert!((got.f - t.fval(s, tt, interp)).abs() < 1e-6);
+            }
+        }
+    }
+
+    #[test]
+    fn pyramid_keeps_the_mean_for_odd_sizes() {
+        let img = Image::from_fn(7, 5, |x, y| ((x * 3 + y * 5) % 4) as f32);
+        let mean: f32 = img.pixels.iter().sum::<f32>() / 35.0;
+        let t = BumpTable::new(&img);
+        assert_eq!(t.level_count(), 3); // 7x5, 3x2, 1x1
+        let top = t.sample(0.5, 0.5, Interp::Nearest, 99.0);
+        assert!((top.f - mean).abs() < 1e-5, "{} vs {mean}", top.f);
+    }
+}

@@ -1,0 +1,9 @@
+//! Geometry: parametric surfaces evaluated exactly, object transforms, and tessellation into triangles
+//! that carry (u,v) so the rasterizer can find which (u,v) lands in each pixel.
+
+pub mod surface;
+pub mod tessellate;
+pub mod transform;
+
+pub use surface::{Surface, SurfaceFrame};
+pub use transform::Transform;

@@ -1,0 +1,126 @@
+//! Tessellation: a parametric surface becomes a grid of triangles carrying (u,v). The triangles only decide
+//! which (u,v) lands in each pixel; the shader evaluates the exact surface there.
+//!
+//! Watertightness starts here: every grid vertex is computed once and shared by the triangles around it,
+//! and the vertices of a wrapping seam (u = 1 beside u = 0) reuse the positions of the other side exactly.
+
+use super::Surface;
+use glam::{Vec2, Vec3};
+
+/// Triangles over one surface, in object space; each triangle runs counter-clockwise in (u,v),
+/// so it faces the same way as N = Pu x Pv.
+#[derive(Clone, Debug, Default)]
+pub struct Mesh {
+    pub positions: Vec<Vec3>,
+    pub uvs: Vec<Vec2>,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// The most segments along one parameter; finer grids cost memory and add nothing visible.
+pub const MAX_SEGMENTS: usize = 1024;
+
+/// A grid of `nu` x `nv` quads, two triangles each.
+pub fn grid(surface: &Surface, nu: usize, nv: usize) -> Mesh {
+    let (wrap_u, wrap_v) = surface.wraps();
+    let (nu, nv) = (nu.max(1), nv.max(1));
+    let mut mesh = Mesh::default();
+    let columns = nu + 1;
+    for j in 0..=nv {
+        for i in 0..=nu {
+            let uv = Vec2::new(i as f32 / nu as f32, j as f32 / nv as f32);
+            // A seam reuses the other side's position so both sides meet exactly.
+            let (si, sj) = (if wrap_u && i == nu { 0 } else { i }, if wrap_v && j == nv { 0 } else { j });
+            let p = if (si, sj) == (i, j) {
+                surface.position(uv.x, uv.y)
+            } else {
+                mesh.positions[sj * columns + si]
+            };
+            mesh.positions.push(p);
+            mesh.uvs.push(uv);
+        }
+    }
+    for j in 0..nv {
+        for i in 0..nu {
+            let a = (j * columns + i) as u32;
+            let b = a + 1;
+            let c = a + columns as u32 + 1;
+            let d = a + columns as u32;
+            mesh.triangles.push([a, b, c]);
+            mesh.triangles.push([a, c, d]);
+        }
+    }
+    mesh
+}
+
+/// Chooses the grid for a surface so that each segment spans about `target_px` pixels on screen.
+/// `pixels_per_unit(p)` gives the local screen scale at an object-space point (0 where it is not visible).
+pub fn segments_for(surface: &Surface, target_px: f32, pixels_per_unit: impl Fn(Vec3) -> f32) -> (usize, usize) {
+    if surface.is_parallelogram() {
+        return (1, 1);
+    }
+    const K: usize = 16;
+    let sample = |i: usize, j: usize| surface.position(i as f32 / K as f32, j as f32 / K as f32);
+    let mut pts = Vec::with_capacity((K + 1) * (K + 1));
+    for j in 0..=K {
+        for i in 0..=K {
+            pts.push(sample(i, j));
+        }
+    }
+    let scale = pts.iter().map(|&p| pixels_per_unit(p)).fold(0.0_f32, f32::max);
+    let at = |i: usize, j: usize| pts[j * (K + 1) + i];
+    let (mut len_u, mut len_v) = (0.0_f32, 0.0_f32);
+    for a in 0..=K {
+        len_u = len_u.max((0..K).map(|i| (at(i + 1, a) - at(i, a)).length()).sum());
+        len_v = len_v.max((0..K).map(|j| (at(a, j + 1) - at(a, j)).length()).sum());
+    }
+    let (wrap_u, wrap_v) = surface.wraps();
+    let count = |len: f32, wraps: bool| {
+        let min = if wraps { 8 } else { 2 };
+        ((len * scale / target_px).ceil() as usize).clamp(min, MAX_SEGMENTS)
+    };
+    (count(len_u, wrap_u), count(len_v, wrap_v))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sphere_seam_and_poles_share_positions() {
+        let s = Surface::Sphere { radius: 1.0 };
+        let m = grid(&s, 12, 6);
+        let cols = 13;
+        for j in 0..=6 {
+            assert_eq!(m.positions[j * cols], m.positions[j * cols + 12]);
+        }
+        for i in 0..cols {
+            assert_eq!(m.positions[i], m.positions[0]);
+            assert_eq!(m.positions[6 * cols + i], m.positions[6 * cols]);
+        }
+        assert_eq!(m.triangles.len(), 12 * 6 * 2);
+    }
+
+    #[test]
+    fn triangles_face_along_the_normal() {
+        let s = Surface::Sphere { radius: 1.0 };
+        let m = grid(&s, 16, 8);
+        for t in &m.triangles {
+            let [a, b, c] = t.map(|k| m.positions[k as usize]);
+            let n = (b - a).cross(c - a);
+            if n.length() > 1e-6 {
+                assert!(n.dot(a + b + c) > 0.0);
+            }
+        }
+    }
+
+    #[test]
+    fn segment_count_follows_screen_size() {
+        let s = Surface::Sphere { radius: 1.0 };
+        let (nu, nv) = segments_for(&s, 10.0, |_| 100.0);
+        // Circumference 2 pi and meridian pi world units at 100 px per unit, 10 px per segment.
+        assert!((60..=64).contains(&nu), "{nu}");
+        assert!((30..=32).contains(&nv), "{nv}");
+        let flat = Surface::Patch { corners: [Vec3::ZERO, Vec3::X, Vec3::X + Vec3::Y, Vec3::Y] };
+        assert_eq!(segments_for(&flat, 10.0, |_| 1000.0), (1, 1));
+    }
+}

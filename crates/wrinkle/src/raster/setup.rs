@@ -1,0 +1,194 @@
+//! Triangle setup: projection, snapping to fixed point, orientation and culling, edge functions with the
+//! fill rule, and the screen-space planes that give perspective-correct barycentrics and (u,v) derivatives.
+
+use super::camera::Camera;
+use super::clip::{clip_planes, clip_polygon, inside_all, ClipVertex};
+use super::SUBPIXEL;
+use glam::{Affine3A, Vec2, Vec3, Vec4};
+
+/// a(x, y) = a0 + ax (x - x0) + ay (y - y0): an attribute that is affine in screen space.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Plane {
+    pub a0: f32,
+    pub ax: f32,
+    pub ay: f32,
+}
+
+impl Plane {
+    #[inline]
+    pub fn at(&self, dx: f32, dy: f32) -> f32 {
+        self.a0 + self.ax * dx + self.ay * dy
+    }
+}
+
+/// A triangle ready to rasterize and to interpolate.
+#[derive(Clone, Debug)]
+pub struct ScreenTriangle {
+    /// Edge functions E = A x + B y + C in fixed point, positive inside; `bias` is 0 on edges that own their
+    /// samples and -1 on the others (the fill rule).
+    pub edges: [[i64; 3]; 3],
+    pub bias: [i64; 3],
+    /// Bounding box in whole pixels, inclusive, clipped to the screen.
+    pub bbox: [i32; 4],
+    /// Screen position of vertex 0, the origin of the planes.
+    pub origin: Vec2,
+    /// Depth key (larger is nearer): 1/w for perspective, camera z for orthographic.
+    pub depth: Plane,
+    /// q = 1/w, and b1 q1, b2 q2: barycentrics are b_k = B_k / S.
+    pub s: Plane,
+    pub b1: Plane,
+    pub b2: Plane,
+    pub uv: [Vec2; 3],
+    /// The surface (one parametric surface of one object) the triangle belongs to.
+    pub surface: u32,
+}
+
+impl ScreenTriangle {
+    /// Perspective-correct barycentrics (b1, b2) at a screen position.
+    #[inline]
+    pub fn barycentrics(&self, p: Vec2) -> (f32, f32) {
+        let (dx, dy) = (p.x - self.origin.x, p.y - self.origin.y);
+        let s = self.s.at(dx, dy);
+        (self.b1.at(dx, dy) / s, self.b2.at(dx, dy) / s)
+    }
+
+    /// (u,v) from perspective-correct barycentrics (b1, b2).
+    #[inline]
+    pub fn uv_at(&self, b: [f32; 2]) -> Vec2 {
+        self.uv[0] + b[0] * (self.uv[1] - self.uv[0]) + b[1] * (self.uv[2] - self.uv[0])
+    }
+
+    /// The screen derivatives of (u,v) at a screen position: (du/dx, dv/dx, du/dy, dv/dy).
+    #[inline]
+    pub fn uv_derivatives(&self, p: Vec2) -> [f32; 4] {
+        let (dx, dy) = (p.x - self.origin.x, p.y - self.origin.y);
+        let inv = 1.0 / self.s.at(dx, dy);
+        let (b1, b2) = (self.b1.at(dx, dy) * inv, self.b2.at(dx, dy) * inv);
+        let (e1, e2) = (self.uv[1] - self.uv[0], self.uv[2] - self.uv[0]);
+        // d(B/S) = (dB - b dS) / S
+        let db1x = (self.b1.ax - b1 * self.s.ax) * inv;
+        let db1y = (self.b1.ay - b1 * self.s.ay) * inv;
+        let db2x = (self.b2.ax - b2 * self.s.ax) * inv;
+        let db2y = (self.b2.ay - b2 * self.s.ay) * inv;
+        let ddx = db1x * e1 + db2x * e2;
+        let ddy = db1y * e1 + db2y * e2;
+        [ddx.x, ddx.y, ddy.x, ddy.y]
+    }
+}
+
+/// Projects and sets up triangles of one camera, clipping where needed.
+pub struct TriangleSetup<'a> {
+    camera: &'a Camera,
+    planes: [Vec4; 5],
+    polygon: Vec<ClipVertex>,
+    pub triangles: Vec<ScreenTriangle>,
+}
+
+impl<'a> TriangleSetup<'a> {
+    pub fn new(camera: &'a Camera) -> Self {
+        TriangleSetup { camera, planes: clip_planes(camera), polygon: Vec::with_capacity(9), triangles: Vec::new() }
+    }
+
+    /// Adds the triangles of one mesh (object-space positions, `object_to_camera`), all of surface `surface`.
+    /// `cull` drops triangles that face away from the eye (closed surfaces).
+    pub fn add_mesh(&mut self, positions: &[Vec3], uvs: &[Vec2], triangles: &[[u32; 3]], object_to_camera: &Affine3A, surface: u32, cull: bool) {
+        let cam: Vec<Vec3> = positions.iter().map(|&p| object_to_camera.transform_point3(p)).collect();
+        for t in triangles {
+            let tri = t.map(|k| ClipVertex { pos: cam[k as usize], uv: uvs[k as usize] });
+            if inside_all(&self.planes, &tri) {
+                self.add_triangle(&tri, surface, cull);
+            } else {
+                let mut poly = std::mem::take(&mut self.polygon);
+                clip_polygon(&self.planes, &tri, &mut poly);
+                for k in 1..poly.len().saturating_sub(1) {
+                    self.add_triangle(&[poly[0], poly[k], poly[k + 1]], surface, cull);
+                }
+                self.polygon = poly;
+            }
+        }
+    }
+
+    fn add_triangle(&mut self, tri: &[ClipVertex; 3], surface: u32, cull: bool) {
+        let cam = self.camera;
+        let proj = tri.map(|v| cam.project(v.pos));
+        let fixed = proj.map(|(s, _)| [(s.x * SUBPIXEL as f32).round() as i64, (s.y * SUBPIXEL as f32).round() as i64]);
+        let area = edge_at(fixed[0], fixed[1], fixed[2]);
+        if area == 0 {
+            return;
+        }
+        // Counter-clockwise in (u,v) faces along N; on a screen with y down that is a negative area.
+        if cull && area > 0 {
+            return;
+        }
+        // Order the vertices so the area is positive and E >= 0 inside.
+        let order = if area > 0 { [0, 1, 2] } else { [0, 2, 1] };
+        let fx = order.map(|k| fixed[k]);
+        let edges_at = [(1, 2), (2, 0), (0, 1)];
+        let mut edges = [[0i64; 3]; 3];
+        let mut bias = [0i64; 3];
+        for (e, &(a, b)) in edges_at.iter().enumerate() {
+            let (pa, pb) = (fx[a], fx[b]);
+            let ca = -(pb[1] - pa[1]);
+            let cb = pb[0] - pa[0];
+            edges[e] = [ca, cb, -(ca * pa[0] + cb * pa[1])];
+            // Fill rule: a sample exactly on an edge belongs to the triangle for which (A, B) points "right or
+            // down"; the neighbour across the edge has (-A, -B), so exactly one of the two owns it.
+            bias[e] = if ca > 0 || (ca == 0 && cb > 0) { 0 } else { -1 };
+        }
+        let (w, h) = (cam.width as i64, cam.height as i64);
+        let minx = fx.iter().map(|p| p[0]).min().unwrap_or(0).div_euclid(SUBPIXEL).max(0);
+        let maxx = fx.iter().map(|p| p[0]).max().unwrap_or(0).div_euclid(SUBPIXEL).min(w - 1);
+        let miny = fx.iter().map(|p| p[1]).min().unwrap_or(0).div_euclid(SUBPIXEL).max(0);
+        let maxy = fx.iter().map(|p| p[1]).max().unwrap_or(0).div_euclid(SUBPIXEL).min(h - 1);
+        if minx > maxx || miny > maxy {
+            return;
+        }
+        // Planes from the snapped positions, so interpolation agrees with coverage.
+        let pos = fx.map(|p| [p[0] as f64 / SUBPIXEL as f64, p[1] as f64 / SUBPIXEL as f64]);
+        let q = order.map(|k| proj[k].1 as f64);
+        let depth_key = order.map(|k| if cam.is_perspective() { proj[k].1 as f64 } else { tri[k].pos.z as f64 });
+        let plane = |a: [f64; 3]| plane_through(&pos, a);
+        self.triangles.push(ScreenTriangle {
+            edges,
+            bias,
+            bbox: [minx as i32, miny as i32, maxx as i32, maxy as i32],
+            origin: Vec2::new(pos[0][0] as f32, pos[0][1] as f32),
+            depth: plane(depth_key),
+            s: plane(q),
+            b1: plane([0.0, q[1], 0.0]),
+            b2: plane([0.0, 0.0, q[2]]),
+            uv: order.map(|k| tri[k].uv),
+            surface,
+        });
+    }
+}
+
+/// The edge function of a-b at p (twice the signed area of a, b, p), in fixed point.
+#[inline]
+fn edge_at(a: [i64; 2], b: [i64; 2], p: [i64; 2]) -> i64 {
+    (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])
+}
+
+/// The affine function through three screen points with values `a`, relative to the first point.
+fn plane_through(p: &[[f64; 2]; 3], a: [f64; 3]) -> Plane {
+    let (x1, y1) = (p[1][0] - p[0][0], p[1][1] - p[0][1]);
+    let (x2, y2) = (p[2][0] - p[0][0], p[2][1] - p[0][1]);
+    let det = x1 * y2 - x2 * y1;
+    let (a1, a2) = (a[1] - a[0], a[2] - a[0]);
+    Plane { a0: a[0] as f32, ax: ((a1 * y2 - a2 * y1) / det) as f32, ay: ((x1 * a2 - x2 * a1) / det) as f32 }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plane_reproduces_vertex_values() {
+        let p = [[1.0, 2.0], [11.0, 3.0], [4.0, 9.0]];
+        let pl = plane_through(&p, [0.5, 2.0, -1.0]);
+        for (k, v) in [0.5f32, 2.0, -1.0].iter().enumerate() {
+            let got = pl.at((p[k][0] - p[0][0]) as f32, (p[k][1] - p[0][1]) as f32);
+            assert!((got - v).abs() < 1e-5);
+        }
+    }
+}

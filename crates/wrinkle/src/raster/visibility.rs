@@ -1,0 +1,163 @@
+//! The visibility buffer of one screen tile: for each sample, the depth key, the triangle, the object and
+//! the perspective-correct barycentrics of the nearest surface. Tiles are independent, so they render in
+//! parallel; triangles are binned to the tiles their bounding boxes touch.
+
+use super::samples::SamplePattern;
+use super::setup::ScreenTriangle;
+use super::SUBPIXEL;
+use glam::Vec2;
+
+/// No triangle covers this sample.
+pub const EMPTY: u32 = u32::MAX;
+
+/// For each tile, the indices of the triangles whose bounding box touches it, in submission order.
+pub struct Bins {
+    pub tile_size: usize,
+    pub tiles_x: usize,
+    pub tiles_y: usize,
+    pub bins: Vec<Vec<u32>>,
+}
+
+impl Bins {
+    pub fn new(triangles: &[ScreenTriangle], width: usize, height: usize, tile_size: usize) -> Bins {
+        let tiles_x = width.div_ceil(tile_size);
+        let tiles_y = height.div_ceil(tile_size);
+        let mut bins = vec![Vec::new(); tiles_x * tiles_y];
+        for (i, t) in triangles.iter().enumerate() {
+            let [x0, y0, x1, y1] = t.bbox.map(|c| c as usize / tile_size);
+            for ty in y0..=y1 {
+                for tx in x0..=x1 {
+                    bins[ty * tiles_x + tx].push(i as u32);
+                }
+            }
+        }
+        Bins { tile_size, tiles_x, tiles_y, bins }
+    }
+}
+
+/// The samples of one tile, `(y * tile_width + x) * spp + s`.
+pub struct VisBuffer {
+    /// Tile origin and size in pixels.
+    pub x0: usize,
+    pub y0: usize,
+    pub width: usize,
+    pub height: usize,
+    pub spp: usize,
+    pub depth: Vec<f32>,
+    pub triangle: Vec<u32>,
+    pub object: Vec<u32>,
+    pub bary: Vec<[f32; 2]>,
+}
+
+impl VisBuffer {
+    pub fn new(tile_size: usize, spp: usize) -> VisBuffer {
+        let n = tile_size * tile_size * spp;
+        VisBuffer {
+            x0: 0,
+            y0: 0,
+            width: 0,
+            height: 0,
+            spp,
+            depth: vec![f32::NEG_INFINITY; n],
+            triangle: vec![EMPTY; n],
+            object: vec![EMPTY; n],
+            bary: vec![[0.0; 2]; n],
+        }
+    }
+
+    /// Rasterizes every triangle binned to tile (tx, ty), then fills in objects and barycentrics.
+    /// `object_of(surface)` names the object a surface belongs to.
+    pub fn render_tile(
+        &mut self,
+        bins: &Bins,
+        tile: (usize, usize),
+        screen: (usize, usize),
+        triangles: &[ScreenTriangle],
+        pattern: &SamplePattern,
+        object_of: impl Fn(u32) -> u32,
+    ) {
+        let ts = bins.tile_size;
+        self.x0 = tile.0 * ts;
+        self.y0 = tile.1 * ts;
+        self.width = ts.min(screen.0 - self.x0);
+        self.height = ts.min(screen.1 - self.y0);
+        let n = self.width * self.height * self.spp;
+        self.depth[..n].fill(f32::NEG_INFINITY);
+        self.triangle[..n].fill(EMPTY);
+        for &t in &bins.bins[tile.1 * bins.tiles_x + tile.0] {
+            self.rasterize(&triangles[t as usize], t, pattern);
+        }
+        self.resolve_barycentrics(triangles, pattern, object_of);
+    }
+
+    fn rasterize(&mut self, tri: &ScreenTriangle, id: u32, pattern: &SamplePattern) {
+        let spp = self.spp;
+        let x_lo = (tri.bbox[0] as usize).max(self.x0);
+        let x_hi = (tri.bbox[2] as usize).min(self.x0 + self.width - 1);
+        let y_lo = (tri.bbox[1] as usize).max(self.y0);
+        let y_hi = (tri.bbox[3] as usize).min(self.y0 + self.height - 1);
+        if x_lo > x_hi || y_lo > y_hi {
+            return;
+        }
+        let [e0, e1, e2] = tri.edges;
+        // Per-sample offsets of each edge function (with the fill-rule bias folded in).
+        let mut offs = [[0i64; 3]; 16];
+        for (s, o) in pattern.offsets.iter().enumerate() {
+            for (k, e) in tri.edges.iter().enumerate() {
+                offs[s][k] = e[0] * o[0] + e[1] * o[1] + tri.bias[k];
+            }
+        }
+        let step = |e: [i64; 3]| e[0] * SUBPIXEL;
+        let (sx0, sx1, sx2) = (step(e0), step(e1), step(e2));
+        let eval = |e: [i64; 3], x: usize, y: usize| e[0] * (x as i64 * SUBPIXEL) + e[1] * (y as i64 * SUBPIXEL) + e[2];
+        for y in y_lo..=y_hi {
+            let (mut w0, mut w1, mut w2) = (eval(e0, x_lo, y), eval(e1, x_lo, y), eval(e2, x_lo, y));
+            let row = (y - self.y0) * self.width;
+            for x in x_lo..=x_hi {
+                let base = (row + x - self.x0) * spp;
+                for (s, o) in offs[..spp].iter().enumerate() {
+                    if (w0 + o[0]) | (w1 + o[1]) | (w2 + o[2]) >= 0 {
+                        let (ox, oy) = pattern.offset(s);
+                        let p = Vec2::new(x as f32 + ox - tri.origin.x, y as f32 + oy - tri.origin.y);
+                        let d = tri.depth.at(p.x, p.y);
+                        let k = base + s;
+                        // Ties go to the lower triangle index, so the result does not depend on binning order.
+                        if d > self.depth[k] || (d == self.depth[k] && id < self.triangle[k]) {
+                            self.depth[k] = d;
+                            self.triangle[k] = id;
+                        }
+                    }
+                }
+                w0 += sx0;
+                w1 += sx1;
+                w2 += sx2;
+            }
+        }
+    }
+
+    fn resolve_barycentrics(&mut self, triangles: &[ScreenTriangle], pattern: &SamplePattern, object_of: impl Fn(u32) -> u32) {
+        for y in 0..self.height {
+            for x in 0..self.width {
+                for s in 0..self.spp {
+                    let k = (y * self.width + x) * self.spp + s;
+                    let t = self.triangle[k];
+                    if t == EMPTY {
+                        self.object[k] = EMPTY;
+                        continue;
+                    }
+                    let tri = &triangles[t as usize];
+                    let (b1, b2) = tri.barycentrics(self.sample_position(x, y, s, pattern));
+                    self.bary[k] = [b1, b2];
+                    self.object[k] = object_of(tri.surface);
+                }
+            }
+        }
+    }
+
+    /// The screen position of sample `s` of tile pixel (x, y).
+    #[inline]
+    pub fn sample_position(&self, x: usize, y: usize, s: usize, pattern: &SamplePattern) -> Vec2 {
+        let (ox, oy) = pattern.offset(s);
+        Vec2::new((self.x0 + x) as f32 + ox, (self.y0 + y) as f32 + oy)
+    }
+}

@@ -1,0 +1,150 @@
+//! A rendered frame: linear RGB and the optional AOVs (normal, uv, depth, id), with stage timings.
+
+use crate::shade::ShadedSample;
+use glam::{Vec2, Vec3};
+
+/// Which AOVs to keep. Background pixels hold NaN in every AOV.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Aovs {
+    pub normal: bool,
+    pub uv: bool,
+    pub depth: bool,
+    pub id: bool,
+}
+
+impl Aovs {
+    pub fn any(&self) -> bool {
+        self.normal || self.uv || self.depth || self.id
+    }
+}
+
+/// Time of each stage of one frame, milliseconds (raster and shade are summed over tiles in parallel, wall time).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Stats {
+    pub tessellate_ms: f64,
+    pub setup_ms: f64,
+    pub bin_ms: f64,
+    pub raster_shade_ms: f64,
+    pub triangles: usize,
+}
+
+impl Stats {
+    pub fn total_ms(&self) -> f64 {
+        self.tessellate_ms + self.setup_ms + self.bin_ms + self.raster_shade_ms
+    }
+}
+
+pub struct Frame {
+    pub width: usize,
+    pub height: usize,
+    /// Linear RGB, row 0 at the top.
+    pub color: Vec<[f32; 3]>,
+    /// Unit shading normal N' in world space (mean of the pixel's covered samples).
+    pub normal: Option<Vec<[f32; 3]>>,
+    /// (u,v) before replication.
+    pub uv: Option<Vec<[f32; 2]>>,
+    /// Distance from the eye.
+    pub depth: Option<Vec<f32>>,
+    /// The object's index in the scene file.
+    pub id: Option<Vec<f32>>,
+    pub stats: Stats,
+}
+
+impl Frame {
+    pub fn new(width: usize, height: usize, aovs: Aovs) -> Frame {
+        let n = width * height;
+        Frame {
+            width,
+            height,
+            color: vec![[0.0; 3]; n],
+            normal: aovs.normal.then(|| vec![[f32::NAN; 3]; n]),
+            uv: aovs.uv.then(|| vec![[f32::NAN; 2]; n]),
+            depth: aovs.depth.then(|| vec![f32::NAN; n]),
+            id: aovs.id.then(|| vec![f32::NAN; n]),
+            stats: Stats::default(),
+        }
+    }
+
+    /// Copies the bands' AOVs (in band order) into the frame.
+    pub(super) fn gather_aovs(&mut self, bands: Vec<AovBand>) {
+        fn gather<T: Copy>(dst: &mut Option<Vec<T>>, parts: impl Iterator<Item = Vec<T>>) {
+            if let Some(d) = dst {
+                let mut at = 0;
+                for p in parts {
+                    d[at..at + p.len()].copy_from_slice(&p);
+                    at += p.len();
+                }
+            }
+        }
+        if !bands.iter().any(|b| b.kinds.any()) {
+            return;
+        }
+        let mut bands = bands;
+        gather(&mut self.normal, bands.iter_mut().map(|b| std::mem::take(&mut b.normal)));
+        gather(&mut self.uv, bands.iter_mut().map(|b| std::mem::take(&mut b.uv)));
+        gather(&mut self.depth, bands.iter_mut().map(|b| std::mem::take(&mut b.depth)));
+        gather(&mut self.id, bands.iter_mut().map(|b| std::mem::take(&mut b.id)));
+    }
+}
+
+/// The sum of a pixel's covered samples, for the AOVs.
+#[derive(Default)]
+pub(super) struct AovSample {
+    count: u32,
+    normal: Vec3,
+    uv: Vec2,
+    depth: f32,
+    id: f32,
+}
+
+impl AovSample {
+    pub fn add(&mut self, s: &ShadedSample, uv: Vec2, object: u32) {
+        self.count += 1;
+        self.normal += s.normal;
+        self.uv += uv;
+        self.depth += s.depth;
+        self.id += object as f32;
+    }
+}
+
+/// The AOVs of one band of tiles.
+pub(super) struct AovBand {
+    kinds: Aovs,
+    normal: Vec<[f32; 3]>,
+    uv: Vec<[f32; 2]>,
+    depth: Vec<f32>,
+    id: Vec<f32>,
+}
+
+impl AovBand {
+    pub fn new(kinds: Aovs, n: usize) -> AovBand {
+        let sized = |on: bool, n: usize| if on { n } else { 0 };
+        AovBand {
+            kinds,
+            normal: vec![[f32::NAN; 3]; sized(kinds.normal, n)],
+            uv: vec![[f32::NAN; 2]; sized(kinds.uv, n)],
+            depth: vec![f32::NAN; sized(kinds.depth, n)],
+            id: vec![f32::NAN; sized(kinds.id, n)],
+        }
+    }
+
+    /// Stores the mean of the pixel's covered samples (NaN stays where none was covered).
+    pub fn set(&mut self, i: usize, s: &AovSample) {
+        if s.count == 0 {
+            return;
+        }
+        let k = 1.0 / s.count as f32;
+        if self.kinds.normal {
+            self.normal[i] = (s.normal * k).to_array();
+        }
+        if self.kinds.uv {
+            self.uv[i] = (s.uv * k).to_array();
+        }
+        if self.kinds.depth {
+            self.depth[i] = s.depth * k;
+        }
+        if self.kinds.id {
+            self.id[i] = s.id * k;
+        }
+    }
+}

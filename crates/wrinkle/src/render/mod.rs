@@ -1,0 +1,228 @@
+//! The driver: runs the pipeline for one frame (tessellate, set up, bin, then per tile: rasterize,
+//! shade, resolve) and reports the time of each stage.
+
+mod frame;
+
+pub use frame::{Aovs, Frame, Stats};
+
+use crate::geometry::tessellate::{grid, segments_for, Mesh};
+use crate::raster::{Bins, Camera, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
+use crate::raster::visibility::EMPTY;
+use crate::scene::Scene;
+use crate::shade::{BumpFilter, ShadeContext, SurfaceInstance};
+use crate::texture::Footprint;
+use crate::{Error, Result};
+use glam::{Affine3A, Mat3, Quat, Vec3};
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// The largest image side accepted.
+pub const MAX_SIDE: usize = 16384;
+
+/// About how many pixels one tessellation segment spans on screen: fine enough that the triangles'
+/// (u,v) stay within a small fraction of a pixel of the exact surface's.
+const SEGMENT_PX: f32 = 8.0;
+
+#[derive(Clone, Debug)]
+pub struct RenderOptions {
+    pub width: usize,
+    pub height: usize,
+    /// 1, 4 or 16 samples per pixel.
+    pub spp: usize,
+    pub bump: bool,
+    /// Replaces every material's bump filter when set.
+    pub bump_filter: Option<BumpFilter>,
+    /// Rotation of every object about the vertical axis through the camera's target, degrees (turntables).
+    pub turntable_degrees: f32,
+    /// Which per-pixel AOVs to keep.
+    pub aovs: Aovs,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        RenderOptions {
+            width: 1280,
+            height: 720,
+            spp: 1,
+            bump: true,
+            bump_filter: None,
+            turntable_degrees: 0.0,
+            aovs: Aovs::default(),
+        }
+    }
+}
+
+impl RenderOptions {
+    pub fn validate(&self) -> Result<()> {
+        for (name, v) in [("width", self.width), ("height", self.height)] {
+            if v == 0 || v > MAX_SIDE {
+                return Err(Error::Invalid(format!("--{name} must be between 1 and {MAX_SIDE}, got {v}")));
+            }
+        }
+        if SamplePattern::new(self.spp).is_none() {
+            return Err(Error::Invalid(format!("--spp must be 1, 4 or 16, got {}", self.spp)));
+        }
+        if !self.turntable_degrees.is_finite() {
+            return Err(Error::Invalid("turntable angle must be finite".into()));
+        }
+        Ok(())
+    }
+}
+
+/// Renders one frame of the scene.
+pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Frame> {
+    options.validate()?;
+    let mut stats = Stats::default();
+    let (w, h) = (options.width, options.height);
+    let cam = &scene.camera;
+    let camera = Camera::new(cam.eye, cam.look_at, cam.up, cam.projection, w as u32, h as u32);
+
+    let t = Instant::now();
+    let instances = instances(scene, options.turntable_degrees);
+    let meshes: Vec<Mesh> = instances
+        .par_iter()
+        .map(|inst| {
+            let (nu, nv) = segments_for(&inst.surface, SEGMENT_PX, |p| camera.pixels_per_unit(inst.object_to_world.transform_point3(p)));
+            grid(&inst.surface, nu, nv)
+        })
+        .collect();
+    stats.tessellate_ms = ms(t);
+
+    let t = Instant::now();
+    let triangles = setup_triangles(&camera, &instances, &meshes);
+    stats.triangles = triangles.len();
+    stats.setup_ms = ms(t);
+
+    let t = Instant::now();
+    let pattern = SamplePattern::new(options.spp).expect("validated");
+    let tile_size = match options.spp {
+        1 => 64,
+        4 => 32,
+        _ => 16,
+    };
+    let bins = Bins::new(&triangles, w, h, tile_size);
+    stats.bin_ms = ms(t);
+
+    let t = Instant::now();
+    let shade_ctx = ShadeContext {
+        eye: cam.eye,
+        ortho_to_eye: (!camera.is_perspective()).then(|| camera.camera_to_world.transform_vector3(Vec3::Z).normalize()),
+        lights: &scene.lights,
+        materials: &scene.materials,
+        bump_enabled: options.bump,
+        bump_filter: options.bump_filter,
+    };
+    let mut frame = Frame::new(w, h, options.aovs);
+    let band_len = tile_size * w;
+    let job = TileJob { bins: &bins, triangles: &triangles, pattern: &pattern, instances: &instances, shade: &shade_ctx, background: cam.background, aovs: options.aovs };
+    let band_aovs: Vec<frame::AovBand> = frame
+        .color
+        .par_chunks_mut(band_len)
+        .enumerate()
+        .map_init(
+            || VisBuffer::new(tile_size, options.spp),
+            |vis, (ty, color)| {
+                let mut aov = frame::AovBand::new(options.aovs, color.len());
+                for tx in 0..bins.tiles_x {
+                    job.tile(vis, (tx, ty), color, &mut aov, w, h);
+                }
+                aov
+            },
+        )
+        .collect();
+    frame.gather_aovs(band_aovs);
+    stats.raster_shade_ms = ms(t);
+    frame.stats = stats;
+    Ok(frame)
+}
+
+fn ms(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+/// Every surface of every object, placed in the world.
+fn instances(scene: &Scene, turntable_degrees: f32) -> Vec<SurfaceInstance> {
+    let pivot = scene.camera.look_at;
+    let spin = Affine3A::from_translation(pivot)
+        * Affine3A::from_quat(Quat::from_rotation_y(turntable_degrees.to_radians()))
+        * Affine3A::from_translation(-pivot);
+    let mut out = Vec::new();
+    for (index, object) in scene.objects.iter().enumerate() {
+        let object_to_world = spin * object.transform.matrix();
+        let normal_matrix = Mat3::from(object_to_world.matrix3).inverse().transpose();
+        let closed = object.shape.is_closed();
+        for surface in object.shape.surfaces() {
+            out.push(SurfaceInstance { surface, object_to_world, normal_matrix, material: object.material, object: index as u32, two_sided: !closed });
+        }
+    }
+    out
+}
+
+/// Clips, projects and sets up every triangle, in parallel over chunks, keeping submission order.
+fn setup_triangles(camera: &Camera, instances: &[SurfaceInstance], meshes: &[Mesh]) -> Vec<ScreenTriangle> {
+    const CHUNK: usize = 8192;
+    let jobs: Vec<(usize, usize)> =
+        meshes.iter().enumerate().flat_map(|(s, m)| (0..m.triangles.len()).step_by(CHUNK).map(move |start| (s, start))).collect();
+    let parts: Vec<Vec<ScreenTriangle>> = jobs
+        .par_iter()
+        .map(|&(s, start)| {
+            let (inst, mesh) = (&instances[s], &meshes[s]);
+            let end = (start + CHUNK).min(mesh.triangles.len());
+            let mut setup = TriangleSetup::new(camera);
+            let to_camera = camera.world_to_camera * inst.object_to_world;
+            setup.add_mesh(&mesh.positions, &mesh.uvs, &mesh.triangles[start..end], &to_camera, s as u32, !inst.two_sided);
+            setup.triangles
+        })
+        .collect();
+    parts.concat()
+}
+
+/// Everything one tile needs, shared by all tiles of a frame.
+struct TileJob<'a> {
+    bins: &'a Bins,
+    triangles: &'a [ScreenTriangle],
+    pattern: &'a SamplePattern,
+    instances: &'a [SurfaceInstance],
+    shade: &'a ShadeContext<'a>,
+    background: Vec3,
+    aovs: Aovs,
+}
+
+impl TileJob<'_> {
+    /// Rasterizes, shades and resolves one tile into its band of the frame.
+    fn tile(&self, vis: &mut VisBuffer, tile: (usize, usize), band: &mut [[f32; 3]], aov: &mut frame::AovBand, w: usize, h: usize) {
+        let instances = self.instances;
+        vis.render_tile(self.bins, tile, (w, h), self.triangles, self.pattern, |s| instances[s as usize].object);
+        let spp = vis.spp;
+        let inv_spp = 1.0 / spp as f32;
+        for y in 0..vis.height {
+            for x in 0..vis.width {
+                let mut sum = Vec3::ZERO;
+                let mut acc = frame::AovSample::default();
+                for s in 0..spp {
+                    let k = (y * vis.width + x) * spp + s;
+                    let t = vis.triangle[k];
+                    if t == EMPTY {
+                        sum += self.background;
+                        continue;
+                    }
+                    let tri = &self.triangles[t as usize];
+                    let uv = tri.uv_at(vis.bary[k]);
+                    let d = tri.uv_derivatives(vis.sample_position(x, y, s, self.pattern));
+                    let footprint = Footprint { dudx: d[0], dvdx: d[1], dudy: d[2], dvdy: d[3] };
+                    let inst = &self.instances[tri.surface as usize];
+                    let shaded = self.shade.shade(inst, uv, &footprint);
+                    sum += shaded.color;
+                    if self.aovs.any() {
+                        acc.add(&shaded, uv, inst.object);
+                    }
+                }
+                let i = (y * w) + vis.x0 + x;
+                band[i] = (sum * inv_spp).to_array();
+                if self.aovs.any() {
+                    aov.set(i, &acc);
+                }
+            }
+        }
+    }
+}

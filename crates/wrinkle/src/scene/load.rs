@@ -1,0 +1,341 @@
+//! Reading a scene from TOML, field by field, with paths resolved against the scene file's folder.
+
+use super::fields::{number_value, points, vec3_value, Fields};
+use super::{CameraDesc, Object, Scene, Shape};
+use crate::bump::generators::{BrickParams, Generator, GridParams, RivetParams, TextParams};
+use crate::bump::{BumpFormula, BumpTable, Interp};
+use crate::geometry::{Surface, Transform};
+use crate::image::io;
+use crate::raster::Projection;
+use crate::shade::{Bump, BumpFilter, Light, Material};
+use crate::texture::ImageTexture;
+use crate::{Error, Result};
+use glam::{Vec2, Vec3};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use toml::Value;
+
+/// The embedded default scene: the cover logo of the 1978 proceedings.
+pub const DEFAULT_SCENE: &str = include_str!("default.toml");
+
+impl Scene {
+    /// Reads and validates a scene file.
+    pub fn load(path: &Path) -> Result<Scene> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::read(path, io_message(&e)))?;
+        let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        Scene::parse(&text, &base).map_err(|e| match e {
+            Error::Scene { path: field, message } if field.is_empty() => Error::read(path, message),
+            other => other,
+        })
+    }
+
+    /// The embedded default scene.
+    pub fn default_scene() -> Scene {
+        Scene::parse(DEFAULT_SCENE, Path::new(".")).expect("the embedded default scene is valid")
+    }
+
+    /// Parses scene text; relative file names resolve against `base`.
+    pub fn parse(text: &str, base: &Path) -> Result<Scene> {
+        let root: Value = toml::from_str::<toml::Table>(text)
+            .map(Value::Table)
+            .map_err(|e| Error::scene("", format!("malformed TOML: {}", e.message().trim())))?;
+        let top = Fields::new("", &root, &["camera", "light", "object"])?;
+        let camera = parse_camera(top.get("camera").ok_or_else(|| Error::scene("camera", "missing table [camera]"))?)?;
+        let lights = top
+            .tables("light")?
+            .iter()
+            .enumerate()
+            .map(|(i, v)| parse_light(&format!("lights[{i}]"), v))
+            .collect::<Result<Vec<_>>>()?;
+        let mut objects = Vec::new();
+        let mut materials = Vec::new();
+        for (i, v) in top.tables("object")?.iter().enumerate() {
+            let (object, material) = parse_object(&format!("objects[{i}]"), v, base, materials.len())?;
+            objects.push(object);
+            materials.push(material);
+        }
+        Ok(Scene { camera, lights, objects, materials })
+    }
+}
+
+fn io_message(e: &std::io::Error) -> String {
+    match e.kind() {
+        std::io::ErrorKind::NotFound => "no such file".into(),
+        _ => e.to_string(),
+    }
+}
+
+fn positive(x: f32) -> bool {
+    x > 0.0
+}
+
+fn non_negative(x: f32) -> bool {
+    x >= 0.0
+}
+
+fn parse_camera(v: &Value) -> Result<CameraDesc> {
+    let f = Fields::new("camera", v, &["eye", "look_at", "up", "fov_y", "projection", "height", "background"])?;
+    let eye = f.required("eye", f.vec3("eye")?)?;
+    let look_at = f.required("look_at", f.vec3("look_at")?)?;
+    let up = f.vec3("up")?.unwrap_or(Vec3::Y);
+    if (look_at - eye).length() == 0.0 {
+        return Err(Error::scene(f.at("look_at"), "must differ from camera.eye"));
+    }
+    if (look_at - eye).normalize().cross(up).length() < 1e-6 {
+        return Err(Error::scene(f.at("up"), "must not be parallel to the view direction"));
+    }
+    let kind = f.choice("projection", "perspective", &[("perspective", "perspective"), ("orthographic", "orthographic")])?;
+    let projection = if kind == "perspective" {
+        if f.get("height").is_some() {
+            return Err(Error::scene(f.at("height"), "only for projection = \"orthographic\""));
+        }
+        Projection::Perspective { fov_y: f.number_where("fov_y", Some(40.0), |x| x > 0.0 && x < 180.0, "degrees between 0 and 180")? }
+    } else {
+        if f.get("fov_y").is_some() {
+            return Err(Error::scene(f.at("fov_y"), "only for projection = \"perspective\""));
+        }
+        Projection::Orthographic { height: f.number_where("height", Some(2.0), positive, "a positive height")? }
+    };
+    let background = colour(&f, "background", Vec3::ZERO)?;
+    Ok(CameraDesc { eye, look_at, up, projection, background })
+}
+
+/// A colour: three non-negative numbers.
+fn colour(f: &Fields, key: &str, default: Vec3) -> Result<Vec3> {
+    let c = f.vec3(key)?.unwrap_or(default);
+    if c.min_element() < 0.0 {
+        return Err(Error::scene(f.at(key), format!("expected non-negative colour components, got [{}, {}, {}]", c.x, c.y, c.z)));
+    }
+    Ok(c)
+}
+
+fn parse_light(path: &str, v: &Value) -> Result<Light> {
+    let f = Fields::new(path, v, &["type", "direction", "position", "color", "intensity"])?;
+    let radiance = colour(&f, "color", Vec3::ONE)? * f.number_where("intensity", Some(1.0), non_negative, "a non-negative intensity")?;
+    let kind = f.required("type", f.string("type")?)?;
+    let only = |key: &str, kinds: &str| -> Result<()> {
+        match f.get(key) {
+            Some(_) => Err(Error::scene(f.at(key), format!("only for lights of type {kinds}"))),
+            None => Ok(()),
+        }
+    };
+    match kind {
+        "directional" => {
+            only("position", "\"point\"")?;
+            let d = f.required("direction", f.vec3("direction")?)?;
+            if d.length() == 0.0 {
+                return Err(Error::scene(f.at("direction"), "must not be [0, 0, 0]"));
+            }
+            Ok(Light::Directional { direction: d.normalize(), radiance })
+        }
+        "point" => {
+            only("direction", "\"directional\"")?;
+            Ok(Light::Point { position: f.required("position", f.vec3("position")?)?, radiance })
+        }
+        "ambient" => {
+            only("direction", "\"directional\"")?;
+            only("position", "\"point\"")?;
+            Ok(Light::Ambient { radiance })
+        }
+        other => Err(Error::scene(f.at("type"), format!("expected one of \"directional\", \"point\", \"ambient\", got \"{other}\""))),
+    }
+}
+
+const SHAPE_FIELDS: &[&str] = &["shape", "transform", "material", "radius", "height", "major_radius", "minor_radius", "corners", "points", "size"];
+
+fn parse_object(path: &str, v: &Value, base: &Path, material_index: usize) -> Result<(Object, Material)> {
+    let f = Fields::new(path, v, SHAPE_FIELDS)?;
+    let kind = f.required("shape", f.string("shape")?)?;
+    let allowed: &[&str] = match kind {
+        "sphere" => &["radius"],
+        "cylinder" => &["radius", "height"],
+        "torus" => &["major_radius", "minor_radius"],
+        "patch" => &["corners"],
+        "bicubic" => &["points"],
+        "box" => &["size"],
+        other => {
+            return Err(Error::scene(
+                f.at("shape"),
+                format!("unknown shape \"{other}\" (expected one of sphere, cylinder, torus, patch, bicubic, box)"),
+            ))
+        }
+    };
+    for key in &SHAPE_FIELDS[3..] {
+        if f.get(key).is_some() && !allowed.contains(key) {
+            return Err(Error::scene(f.at(key), format!("not a field of shape \"{kind}\" (it has: {})", allowed.join(", "))));
+        }
+    }
+    let len = |key: &str, default: f32| f.number_where(key, Some(default), positive, "a positive length");
+    let shape = match kind {
+        "sphere" => Shape::Surface(Surface::Sphere { radius: len("radius", 1.0)? }),
+        "cylinder" => Shape::Surface(Surface::Cylinder { radius: len("radius", 1.0)?, height: len("height", 2.0)? }),
+        "torus" => {
+            let major_radius = len("major_radius", 1.0)?;
+            let minor_radius = len("minor_radius", 0.25)?;
+            Shape::Surface(Surface::Torus { major_radius, minor_radius })
+        }
+        "patch" => {
+            let v = f.required("corners", f.get("corners"))?;
+            let c = points(&f.at("corners"), v, 4)?;
+            Shape::Surface(Surface::Patch { corners: [c[0], c[1], c[2], c[3]] })
+        }
+        "bicubic" => {
+            let v = f.required("points", f.get("points"))?;
+            let p = points(&f.at("points"), v, 16)?;
+            Shape::Surface(Surface::Bicubic { points: std::array::from_fn(|k| p[k]) })
+        }
+        _ => {
+            let size = f.vec3("size")?.unwrap_or(Vec3::ONE);
+            if size.min_element() <= 0.0 {
+                return Err(Error::scene(f.at("size"), format!("expected positive edge lengths, got [{}, {}, {}]", size.x, size.y, size.z)));
+            }
+            Shape::Box { size }
+        }
+    };
+    let transform = match f.get("transform") {
+        Some(t) => parse_transform(&f.at("transform"), t)?,
+        None => Transform::default(),
+    };
+    let material = match f.get("material") {
+        Some(m) => parse_material(&f.at("material"), m, base)?,
+        None => default_material(),
+    };
+    Ok((Object { shape, transform, material: material_index }, material))
+}
+
+fn parse_transform(path: &str, v: &Value) -> Result<Transform> {
+    let f = Fields::new(path, v, &["translate", "rotate", "scale"])?;
+    let scale = match f.get("scale") {
+        // A single number scales uniformly.
+        Some(s @ (Value::Float(_) | Value::Integer(_))) => Vec3::splat(number_value(&f.at("scale"), s)?),
+        Some(s) => vec3_value(&f.at("scale"), s)?,
+        None => Vec3::ONE,
+    };
+    if scale.abs().min_element() == 0.0 {
+        return Err(Error::scene(f.at("scale"), "must not be zero along any axis"));
+    }
+    Ok(Transform { translate: f.vec3("translate")?.unwrap_or(Vec3::ZERO), rotate: f.vec3("rotate")?.unwrap_or(Vec3::ZERO), scale })
+}
+
+fn default_material() -> Material {
+    Material { color: Vec3::splat(0.8), texture: None, specular: 0.0, shininess: 20.0, bump: None }
+}
+
+fn parse_material(path: &str, v: &Value, base: &Path) -> Result<Material> {
+    let f = Fields::new(path, v, &["color", "texture", "specular", "shininess", "bump"])?;
+    let texture = match f.get("texture") {
+        Some(t) => Some(parse_texture(&f.at("texture"), t, base)?),
+        None => None,
+    };
+    let bump = match f.get("bump") {
+        Some(b) => Some(parse_bump(&f.at("bump"), b, base)?),
+        None => None,
+    };
+    Ok(Material {
+        color: colour(&f, "color", Vec3::splat(0.8))?,
+        texture,
+        specular: f.number_where("specular", Some(0.0), non_negative, "a non-negative number")?,
+        shininess: f.number_where("shininess", Some(20.0), positive, "a positive exponent")?,
+        bump,
+    })
+}
+
+fn resolve(base: &Path, name: &str) -> PathBuf {
+    let p = Path::new(name);
+    if p.is_absolute() { p.to_path_buf() } else { base.join(p) }
+}
+
+/// A positive replication count per axis (default [1, 1]).
+fn repeat(f: &Fields) -> Result<Vec2> {
+    let r = f.vec2("repeat")?.unwrap_or(Vec2::ONE);
+    if r.min_element() <= 0.0 {
+        return Err(Error::scene(f.at("repeat"), format!("expected positive counts, got [{}, {}]", r.x, r.y)));
+    }
+    Ok(r)
+}
+
+fn parse_texture(path: &str, v: &Value, base: &Path) -> Result<Arc<dyn crate::texture::Texture>> {
+    let (file, repeat, srgb) = match v {
+        Value::String(s) => (s.as_str(), Vec2::ONE, true),
+        _ => {
+            let f = Fields::new(path, v, &["path", "repeat", "srgb"])?;
+            let file = f.required("path", f.string("path")?)?;
+            (file, repeat(&f)?, f.boolean("srgb", true)?)
+        }
+    };
+    let image = io::load_rgba8(&resolve(base, file))?;
+    Ok(Arc::new(ImageTexture::new(image, srgb, repeat)))
+}
+
+fn parse_bump(path: &str, v: &Value, base: &Path) -> Result<Bump> {
+    let f = Fields::new(path, v, &["map", "generator", "scale", "repeat", "interp", "invariant", "formula", "filter"])?;
+    let image = match (f.string("map")?, f.get("generator")) {
+        (Some(file), None) => io::load_grey(&resolve(base, file))?,
+        (None, Some(g)) => parse_generator(&f.at("generator"), g)?,
+        (Some(_), Some(_)) => return Err(Error::scene(f.at("generator"), "give either map or generator, not both")),
+        (None, None) => return Err(Error::scene(f.at("map"), "missing field (or give a generator)")),
+    };
+    let invariant = f.boolean("invariant", false)?;
+    let full = f.choice("formula", false, &[("blinn", false), ("full", true)])?;
+    let formula = match (full, invariant) {
+        (false, false) => BumpFormula::Blinn,
+        (false, true) => BumpFormula::Invariant,
+        (true, false) => BumpFormula::Full,
+        (true, true) => return Err(Error::scene(f.at("invariant"), "applies to formula = \"blinn\" only")),
+    };
+    Ok(Bump {
+        table: Arc::new(BumpTable::new(&image)),
+        scale: f.number_or("scale", 0.05)?,
+        repeat: repeat(&f)?,
+        interp: f.choice("interp", Interp::Bilinear, &[("nearest", Interp::Nearest), ("bilinear", Interp::Bilinear)])?,
+        formula,
+        filter: f.choice("filter", BumpFilter::None, &[("none", BumpFilter::None), ("mip", BumpFilter::Mip)])?,
+    })
+}
+
+fn parse_generator(path: &str, v: &Value) -> Result<crate::image::GreyImage> {
+    let f = Fields::new(
+        path,
+        v,
+        &["kind", "size", "cells", "line_width", "soft", "text", "count", "radius", "rows", "bricks_per_row", "mortar", "bevel"],
+    )?;
+    let size = f.integer_where("size", 256, 1, 8192)?;
+    let kind = f.required("kind", f.string("kind")?)?;
+    let fraction = |x: f32| (0.0..=1.0).contains(&x);
+    let generator = match kind {
+        "grid" => {
+            let d = GridParams::default();
+            Generator::Grid(GridParams {
+                cells: f.integer_where("cells", d.cells, 1, 4096)?,
+                line_width: f.number_where("line_width", Some(d.line_width), fraction, "a fraction of a cell from 0 to 1")?,
+                soft: f.number_where("soft", Some(d.soft), fraction, "a fraction of a cell from 0 to 1")?,
+            })
+        }
+        "text" => {
+            let d = TextParams::default();
+            let text = f.string("text")?.map(str::to_string).unwrap_or(d.text);
+            Generator::Text(TextParams { text, soft: f.number_where("soft", Some(d.soft), fraction, "a fraction from 0 to 1")? })
+        }
+        "rivets" => {
+            let d = RivetParams::default();
+            Generator::Rivets(RivetParams {
+                count: f.integer_where("count", d.count, 1, 4096)?,
+                radius: f.number_where("radius", Some(d.radius), |r| r > 0.0 && r <= 0.5, "a radius from 0 to 0.5 cells")?,
+            })
+        }
+        "bricks" => {
+            let d = BrickParams::default();
+            Generator::Bricks(BrickParams {
+                rows: f.integer_where("rows", d.rows, 1, 4096)?,
+                bricks_per_row: f.integer_where("bricks_per_row", d.bricks_per_row, 1, 4096)?,
+                mortar: f.number_where("mortar", Some(d.mortar), fraction, "a fraction from 0 to 1")?,
+                bevel: f.number_where("bevel", Some(d.bevel), fraction, "a fraction from 0 to 1")?,
+            })
+        }
+        other => return Err(Error::scene(f.at("kind"), format!("expected one of \"grid\", \"text\", \"rivets\", \"bricks\", got \"{other}\""))),
+    };
+    generator.generate(size).map_err(|e| match e {
+        Error::Invalid(m) => Error::scene(path, m),
+        other => other,
+    })
+}

@@ -1,0 +1,60 @@
+//! Lights and the Blinn-Phong reflection of one light.
+
+use glam::Vec3;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Light {
+    /// Light travelling along `direction` (unit), `radiance` = colour x intensity.
+    Directional { direction: Vec3, radiance: Vec3 },
+    /// A point light; its intensity falls off with the square of the distance.
+    Point { position: Vec3, radiance: Vec3 },
+    /// Light from everywhere, reflected diffusely without regard to the normal.
+    Ambient { radiance: Vec3 },
+}
+
+impl Light {
+    /// Blinn-Phong: albedo (N.L) + specular (N.H)^shininess, times the light's radiance at `p`.
+    #[inline]
+    pub fn shade(&self, p: Vec3, n: Vec3, v: Vec3, albedo: Vec3, specular: f32, shininess: f32) -> Vec3 {
+        let (l, radiance) = match *self {
+            Light::Directional { direction, radiance } => (-direction, radiance),
+            Light::Point { position, radiance } => {
+                let d = position - p;
+                let d2 = d.length_squared();
+                (d / d2.sqrt(), radiance / d2)
+            }
+            Light::Ambient { radiance } => return radiance * albedo,
+        };
+        let ndotl = n.dot(l);
+        if ndotl <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let h = (l + v).normalize_or_zero();
+        let ndoth = n.dot(h).max(0.0);
+        let spec = if specular > 0.0 { specular * ndoth.powf(shininess) } else { 0.0 };
+        radiance * (albedo * ndotl + Vec3::splat(spec))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lambert_and_highlight() {
+        let light = Light::Directional { direction: -Vec3::Z, radiance: Vec3::splat(2.0) };
+        // Head-on: N.L = 1, N.H = 1.
+        let c = light.shade(Vec3::ZERO, Vec3::Z, Vec3::Z, Vec3::splat(0.5), 0.25, 10.0);
+        assert!((c - Vec3::splat(2.0 * (0.5 + 0.25))).length() < 1e-6);
+        // At 60 degrees N.L = 0.5; the eye along the normal puts H at 30 degrees.
+        let n = Vec3::new(3f32.sqrt() / 2.0, 0.0, 0.5);
+        let c = light.shade(Vec3::ZERO, n, n, Vec3::ONE, 1.0, 2.0);
+        let ndoth = (15f32.to_radians()).cos();
+        assert!((c.x - 2.0 * (0.5 + ndoth * ndoth)).abs() < 1e-5);
+        // From behind: nothing.
+        assert_eq!(light.shade(Vec3::ZERO, -Vec3::Z, Vec3::Z, Vec3::ONE, 1.0, 2.0), Vec3::ZERO);
+        let point = Light::Point { position: Vec3::new(0.0, 0.0, 2.0), radiance: Vec3::splat(4.0) };
+        let c = point.shade(Vec3::ZERO, Vec3::Z, Vec3::Z, Vec3::ONE, 0.0, 1.0);
+        assert!((c - Vec3::ONE).length() < 1e-6);
+    }
+}

@@ -1,0 +1,34 @@
+//! Materials: a base colour, an optional colour texture, Blinn-Phong specular, an optional bump function.
+
+use crate::bump::{BumpFormula, BumpTable, Interp};
+use crate::texture::Texture;
+use glam::{Vec2, Vec3};
+use std::sync::Arc;
+
+pub struct Material {
+    /// Multiplies the texture (or stands alone), linear RGB.
+    pub color: Vec3,
+    pub texture: Option<Arc<dyn Texture>>,
+    pub specular: f32,
+    pub shininess: f32,
+    pub bump: Option<Bump>,
+}
+
+/// How the bump function is filtered against aliasing (Blinn section 5).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BumpFilter {
+    /// Full-resolution table everywhere; supersample (`--spp`) to remove aliasing.
+    None,
+    /// The table's MIP level chosen from the pixel's (u,v) footprint.
+    Mip,
+}
+
+/// A bump function: F(u,v) = scale * T(repeat_u u, repeat_v v).
+pub struct Bump {
+    pub table: Arc<BumpTable>,
+    pub scale: f32,
+    pub repeat: Vec2,
+    pub interp: Interp,
+    pub formula: BumpFormula,
+    pub filter: BumpFilter,
+}
