@@ -1,5 +1,5 @@
-//! Reading and writing image files: height maps and colour textures in (PNG, JPEG, BMP, TGA, TIFF),
-//! rendered pictures out (PNG) and float data out (OpenEXR). Every output file is written
+//! Reading and writing image files: height maps and colour textures in (PNG, JPEG, BMP, TGA or TIFF),
+//! rendered pictures out as PNG and float data (AOVs) out as OpenEXR. Every output file is written
 //! atomically: to a temporary file beside it, then renamed into place.
 
 use std::fs::{self, File};
@@ -116,6 +116,7 @@ pub fn write_exr(path: &Path, width: usize, height: usize, channels: &[(&str, &[
 /// Reads every channel of the first layer of an OpenEXR file as `(width, height, [(name, samples)])`,
 /// channels in the file's (alphabetical) order, samples row by row from the top.
 /// Half-float and integer channels are converted to f32.
+#[allow(clippy::type_complexity)] // the tuple is the documented interface
 pub fn read_exr_channels(path: &Path) -> Result<(usize, usize, Vec<(String, Vec<f32>)>)> {
     let image = exr::prelude::read()
         .no_deep_data()
