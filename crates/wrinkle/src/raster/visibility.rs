@@ -76,63 +76,37 @@ impl VisBuffer {
         pattern: &SamplePattern,
         object_of: impl Fn(u32) -> u32,
     ) {
-        let ts = bins.tile_size;
-        self.x0 = tile.0 * ts;
-        self.y0 = tile.1 * ts;
-        self.width = ts.min(screen.0 - self.x0);
-        self.height = ts.min(screen.1 - self.y0);
-        let n = self.width * self.height * self.spp;
-        self.depth[..n].fill(f32::NEG_INFINITY);
-        self.triangle[..n].fill(EMPTY);
+        self.begin_tile(bins.tile_size, tile, screen);
         for &t in &bins.bins[tile.1 * bins.tiles_x + tile.0] {
             self.rasterize(&triangles[t as usize], t, pattern);
         }
         self.resolve_barycentrics(triangles, pattern, object_of);
     }
 
+    /// Places the buffer on tile (tx, ty) of a `screen` (width, height) and clears it.
+    pub fn begin_tile(&mut self, tile_size: usize, tile: (usize, usize), screen: (usize, usize)) {
+        self.x0 = tile.0 * tile_size;
+        self.y0 = tile.1 * tile_size;
+        self.width = tile_size.min(screen.0 - self.x0);
+        self.height = tile_size.min(screen.1 - self.y0);
+        let n = self.width * self.height * self.spp;
+        self.depth[..n].fill(f32::NEG_INFINITY);
+        self.triangle[..n].fill(EMPTY);
+    }
+
+    /// Depth-tests triangle `id` into the buffer at every sample it covers.
     fn rasterize(&mut self, tri: &ScreenTriangle, id: u32, pattern: &SamplePattern) {
-        let spp = self.spp;
-        let x_lo = (tri.bbox[0] as usize).max(self.x0);
-        let x_hi = (tri.bbox[2] as usize).min(self.x0 + self.width - 1);
-        let y_lo = (tri.bbox[1] as usize).max(self.y0);
-        let y_hi = (tri.bbox[3] as usize).min(self.y0 + self.height - 1);
-        if x_lo > x_hi || y_lo > y_hi {
-            return;
-        }
-        let [e0, e1, e2] = tri.edges;
-        // Per-sample offsets of each edge function (with the fill-rule bias folded in).
-        let mut offs = [[0i64; 3]; 16];
-        for (s, o) in pattern.offsets.iter().enumerate() {
-            for (k, e) in tri.edges.iter().enumerate() {
-                offs[s][k] = e[0] * o[0] + e[1] * o[1] + tri.bias[k];
+        let (x0, y0, width, spp) = (self.x0, self.y0, self.width, self.spp);
+        let (depth, triangle) = (&mut self.depth, &mut self.triangle);
+        cover(tri, pattern, (x0, y0, width, self.height), |x, y, s, dx, dy| {
+            let d = tri.depth.at(dx, dy);
+            let k = ((y - y0) * width + x - x0) * spp + s;
+            // Ties go to the lower triangle index, so the result does not depend on binning order.
+            if d > depth[k] || (d == depth[k] && id < triangle[k]) {
+                depth[k] = d;
+                triangle[k] = id;
             }
-        }
-        let step = |e: [i64; 3]| e[0] * SUBPIXEL;
-        let (sx0, sx1, sx2) = (step(e0), step(e1), step(e2));
-        let eval = |e: [i64; 3], x: usize, y: usize| e[0] * (x as i64 * SUBPIXEL) + e[1] * (y as i64 * SUBPIXEL) + e[2];
-        for y in y_lo..=y_hi {
-            let (mut w0, mut w1, mut w2) = (eval(e0, x_lo, y), eval(e1, x_lo, y), eval(e2, x_lo, y));
-            let row = (y - self.y0) * self.width;
-            for x in x_lo..=x_hi {
-                let base = (row + x - self.x0) * spp;
-                for (s, o) in offs[..spp].iter().enumerate() {
-                    if (w0 + o[0]) | (w1 + o[1]) | (w2 + o[2]) >= 0 {
-                        let (ox, oy) = pattern.offset(s);
-                        let p = Vec2::new(x as f32 + ox - tri.origin.x, y as f32 + oy - tri.origin.y);
-                        let d = tri.depth.at(p.x, p.y);
-                        let k = base + s;
-                        // Ties go to the lower triangle index, so the result does not depend on binning order.
-                        if d > self.depth[k] || (d == self.depth[k] && id < self.triangle[k]) {
-                            self.depth[k] = d;
-                            self.triangle[k] = id;
-                        }
-                    }
-                }
-                w0 += sx0;
-                w1 += sx1;
-                w2 += sx2;
-            }
-        }
+        });
     }
 
     fn resolve_barycentrics(&mut self, triangles: &[ScreenTriangle], pattern: &SamplePattern, object_of: impl Fn(u32) -> u32) {
@@ -159,5 +133,44 @@ impl VisBuffer {
     pub fn sample_position(&self, x: usize, y: usize, s: usize, pattern: &SamplePattern) -> Vec2 {
         let (ox, oy) = pattern.offset(s);
         Vec2::new((self.x0 + x) as f32 + ox, (self.y0 + y) as f32 + oy)
+    }
+}
+
+/// Calls `hit(x, y, s, dx, dy)` for every sample s of pixel (x, y) inside `rect` = (x0, y0, width, height)
+/// that the triangle covers under the fill rule; (dx, dy) is the sample's offset from the triangle's origin.
+#[inline]
+pub fn cover(tri: &ScreenTriangle, pattern: &SamplePattern, rect: (usize, usize, usize, usize), mut hit: impl FnMut(usize, usize, usize, f32, f32)) {
+    let (rx, ry, rw, rh) = rect;
+    let spp = pattern.len();
+    let x_lo = (tri.bbox[0] as usize).max(rx);
+    let x_hi = (tri.bbox[2] as usize).min(rx + rw - 1);
+    let y_lo = (tri.bbox[1] as usize).max(ry);
+    let y_hi = (tri.bbox[3] as usize).min(ry + rh - 1);
+    if x_lo > x_hi || y_lo > y_hi {
+        return;
+    }
+    let [e0, e1, e2] = tri.edges;
+    // Per-sample offsets of each edge function, with the fill-rule bias folded in.
+    let mut offs = [[0i64; 3]; 16];
+    for (s, o) in pattern.offsets.iter().enumerate() {
+        for (k, e) in tri.edges.iter().enumerate() {
+            offs[s][k] = e[0] * o[0] + e[1] * o[1] + tri.bias[k];
+        }
+    }
+    let eval = |e: [i64; 3], x: usize, y: usize| e[0] * (x as i64 * SUBPIXEL) + e[1] * (y as i64 * SUBPIXEL) + e[2];
+    let (sx0, sx1, sx2) = (e0[0] * SUBPIXEL, e1[0] * SUBPIXEL, e2[0] * SUBPIXEL);
+    for y in y_lo..=y_hi {
+        let (mut w0, mut w1, mut w2) = (eval(e0, x_lo, y), eval(e1, x_lo, y), eval(e2, x_lo, y));
+        for x in x_lo..=x_hi {
+            for (s, o) in offs[..spp].iter().enumerate() {
+                if (w0 + o[0]) | (w1 + o[1]) | (w2 + o[2]) >= 0 {
+                    let (ox, oy) = pattern.offset(s);
+                    hit(x, y, s, x as f32 + ox - tri.origin.x, y as f32 + oy - tri.origin.y);
+                }
+            }
+            w0 += sx0;
+            w1 += sx1;
+            w2 += sx2;
+        }
     }
 }
