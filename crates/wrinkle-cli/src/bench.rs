@@ -6,7 +6,9 @@ use std::path::PathBuf;
 use wrinkle::{render, Error, Result};
 
 #[derive(Args, Debug)]
-#[command(after_help = "Examples:\n  wrinkle bench ../shared/canonical/sphere.toml --width 1920 --height 1080 --frames 20\n  wrinkle bench --spp 16 --frames 5")]
+#[command(
+    after_help = "Examples:\n  wrinkle bench ../shared/canonical/sphere.toml --width 1920 --height 1080 --frames 20\n  wrinkle bench --spp 16 --frames 5"
+)]
 pub struct BenchArgs {
     /// Scene file (TOML); the embedded cover scene when omitted.
     pub scene: Option<PathBuf>,
@@ -20,7 +22,11 @@ pub struct BenchArgs {
 fn median(v: &mut [f64]) -> f64 {
     v.sort_by(f64::total_cmp);
     let n = v.len();
-    if n % 2 == 1 { v[n / 2] } else { 0.5 * (v[n / 2 - 1] + v[n / 2]) }
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
 }
 
 pub fn run(args: &BenchArgs) -> Result<()> {

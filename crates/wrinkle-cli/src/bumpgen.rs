@@ -40,9 +40,9 @@ pub struct BumpgenArgs {
     #[arg(long, default_value_t = GridParams::default().cells)]
     pub cells: usize,
     /// grid: fraction of a cell covered by each line
-    #[arg(long, default_value_t = GridParams::default().line_width)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = GridParams::default().line_width)]
     pub line_width: f32,
-    #[arg(long, help = format!(
+    #[arg(long, allow_negative_numbers = true, help = format!(
         "grid: width of the edge ramp as a fraction of a cell; text: blur radius as a fraction of a glyph pixel \
          [default: {} for grid, {} for text]",
         GridParams::default().soft,
@@ -56,7 +56,7 @@ pub struct BumpgenArgs {
     #[arg(long, default_value_t = RivetParams::default().count)]
     pub count: usize,
     /// rivets: radius as a fraction of a rivet's cell
-    #[arg(long, default_value_t = RivetParams::default().radius)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = RivetParams::default().radius)]
     pub radius: f32,
     /// bricks: courses of bricks (even)
     #[arg(long, default_value_t = BrickParams::default().rows)]
@@ -65,10 +65,10 @@ pub struct BumpgenArgs {
     #[arg(long, default_value_t = BrickParams::default().bricks_per_row)]
     pub bricks_per_row: usize,
     /// bricks: mortar joint width as a fraction of a course's height
-    #[arg(long, default_value_t = BrickParams::default().mortar)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = BrickParams::default().mortar)]
     pub mortar: f32,
     /// bricks: bevel width as a fraction of a course's height
-    #[arg(long, default_value_t = BrickParams::default().bevel)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = BrickParams::default().bevel)]
     pub bevel: f32,
 }
 

@@ -10,7 +10,9 @@ use std::process::ExitCode;
 
 #[derive(Parser)]
 #[command(name = "wrinkle", version, about = "Texture mapping and Blinn bump mapping: a fast CPU renderer and toolkit")]
-#[command(after_help = "Examples:\n  wrinkle render -o cover.png\n  wrinkle render scenes/grid_patch.toml -o grid.png --spp 16\n  wrinkle bumpgen bricks -o bricks.png --size 512\n  wrinkle bench --frames 10")]
+#[command(
+    after_help = "Examples:\n  wrinkle render -o cover.png\n  wrinkle render scenes/grid_patch.toml -o grid.png --spp 16\n  wrinkle bumpgen bricks -o bricks.png --size 512\n  wrinkle bench --frames 10"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -56,7 +58,10 @@ fn set_threads(threads: Option<usize>) -> wrinkle::Result<()> {
         if n == 0 || n > 1024 {
             return Err(wrinkle::Error::Invalid(format!("--threads must be between 1 and 1024, got {n}")));
         }
-        rayon::ThreadPoolBuilder::new().num_threads(n).build_global().map_err(|e| wrinkle::Error::Invalid(format!("--threads: {e}")))?;
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+            .map_err(|e| wrinkle::Error::Invalid(format!("--threads: {e}")))?;
     }
     Ok(())
 }

@@ -9,7 +9,9 @@ use wrinkle::shade::BumpFilter;
 use wrinkle::{render, Error, RenderOptions, Result, Scene};
 
 #[derive(Args, Debug)]
-#[command(after_help = "Examples:\n  wrinkle render -o cover.png                       the embedded 1978 cover scene\n  wrinkle render scenes/grid_patch.toml -o grid.png --spp 16\n  wrinkle render scene.toml -o out.png --aov normal,uv,depth,id\n  wrinkle render scenes/turntable.toml -o spin.png --frames 36 --turntable")]
+#[command(
+    after_help = "Examples:\n  wrinkle render -o cover.png                       the embedded 1978 cover scene\n  wrinkle render scenes/grid_patch.toml -o grid.png --spp 16\n  wrinkle render scene.toml -o out.png --aov normal,uv,depth,id\n  wrinkle render scenes/turntable.toml -o spin.png --frames 36 --turntable"
+)]
 pub struct RenderArgs {
     /// Scene file (TOML); the embedded cover scene when omitted.
     pub scene: Option<PathBuf>,
@@ -61,7 +63,10 @@ impl FrameArgs {
             height: self.height,
             spp: self.spp,
             bump: !self.no_bump,
-            bump_filter: self.bump_filter.as_deref().map(|f| if f == "mip" { BumpFilter::Mip } else { BumpFilter::None }),
+            bump_filter: self
+                .bump_filter
+                .as_deref()
+                .map(|f| if f == "mip" { BumpFilter::Mip } else { BumpFilter::None }),
             ..RenderOptions::default()
         };
         options.validate()?;
@@ -85,7 +90,9 @@ fn parse_aovs(names: &[String]) -> Result<Aovs> {
             "uv" => a.uv = true,
             "depth" => a.depth = true,
             "id" => a.id = true,
-            other => return Err(Error::Invalid(format!("--aov: unknown AOV \"{other}\" (expected normal, uv, depth, id)"))),
+            other => {
+                return Err(Error::Invalid(format!("--aov: unknown AOV \"{other}\" (expected normal, uv, depth, id)")))
+            }
         }
     }
     Ok(a)
@@ -112,7 +119,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let animated = args.turntable && args.frames > 1;
     let bar = animated.then(|| {
         let bar = ProgressBar::new(args.frames as u64);
-        bar.set_style(ProgressStyle::with_template("{bar:40} {pos}/{len} frames  {elapsed} (eta {eta})").expect("valid template"));
+        bar.set_style(
+            ProgressStyle::with_template("{bar:40} {pos}/{len} frames  {elapsed} (eta {eta})").expect("valid template"),
+        );
         bar
     });
     for k in 0..args.frames {

@@ -180,10 +180,7 @@ pub fn bricks(size: usize, p: &BrickParams) -> Result<GreyImage> {
     check("--size", size, 1, MAX_SIZE)?;
     check("--rows", p.rows, 2, size)?;
     if !p.rows.is_multiple_of(2) {
-        return Err(Error::Invalid(format!(
-            "--rows must be even so that the running bond tiles, got {}",
-            p.rows
-        )));
+        return Err(Error::Invalid(format!("--rows must be even so that the running bond tiles, got {}", p.rows)));
     }
     check("--bricks-per-row", p.bricks_per_row, 1, size)?;
     check("--mortar", p.mortar, 0.0, 1.0)?;
@@ -242,10 +239,8 @@ fn periodic_blur(img: &GreyImage, radius: f64) -> GreyImage {
     let (width, height) = (img.width, img.height);
     let pass = |src: &GreyImage, dx: isize, dy: isize| {
         Image::from_fn(width, height, |x, y| {
-            let sum: f64 = taps
-                .iter()
-                .map(|&(k, w)| w * src.get(wrap(x, k * dx, width), wrap(y, k * dy, height)) as f64)
-                .sum();
+            let sum: f64 =
+                taps.iter().map(|&(k, w)| w * src.get(wrap(x, k * dx, width), wrap(y, k * dy, height)) as f64).sum();
             (sum / total) as f32
         })
     };
@@ -416,8 +411,7 @@ mod tests {
     fn text_blur_keeps_the_mean_and_softens_edges() {
         let p = |soft| TextParams { text: "Hi!".into(), soft };
         let (hard, soft) = (text(64, &p(0.0)).unwrap(), text(64, &p(0.5)).unwrap());
-        let mean =
-            |img: &GreyImage| img.pixels.iter().map(|&v| v as f64).sum::<f64>() / img.pixels.len() as f64;
+        let mean = |img: &GreyImage| img.pixels.iter().map(|&v| v as f64).sum::<f64>() / img.pixels.len() as f64;
         assert!((mean(&hard) - mean(&soft)).abs() < 1e-5);
         assert!(soft.pixels.iter().filter(|&&v| v > 0.05 && v < 0.95).count() > 500);
         assert_in_unit_range(&soft);
@@ -442,9 +436,7 @@ mod tests {
         let img = bricks(64, &p).unwrap();
         // The bottom course (image rows 48..64) has its vertical joints at u = 0 and 1/2,
         // the course above it (rows 32..48) at u = 1/4 and 3/4.
-        for (y, joints, solid) in
-            [(56, [0, 31, 32, 63], [15, 16, 47, 48]), (40, [15, 16, 47, 48], [0, 31, 32, 63])]
-        {
+        for (y, joints, solid) in [(56, [0, 31, 32, 63], [15, 16, 47, 48]), (40, [15, 16, 47, 48], [0, 31, 32, 63])] {
             for x in joints {
                 assert_eq!(img.get(x, y), 0.0, "joint at ({x}, {y})");
             }
@@ -495,7 +487,10 @@ mod tests {
             (grid(64, &GridParams { line_width: -0.1, ..g() }), "--line-width must be between 0 and 1, got -0.1"),
             (grid(64, &GridParams { soft: f32::NAN, ..g() }), "--soft must be between 0 and 1, got NaN"),
             (text(64, &TextParams { text: String::new(), soft: 0.1 }), "--text must not be empty"),
-            (text(64, &TextParams { text: "A".into(), soft: f32::INFINITY }), "--soft must be between 0 and 1, got inf"),
+            (
+                text(64, &TextParams { text: "A".into(), soft: f32::INFINITY }),
+                "--soft must be between 0 and 1, got inf",
+            ),
             (
                 text(8192, &TextParams { text: "HELLO".into(), soft: 0.1 }),
                 "--text of 5 characters at --size 8192 is 40960 texels wide, more than 32768",

@@ -13,7 +13,7 @@
 //! function shifted by half a step, which we do not copy so that nearest and bilinear agree at texel centres.
 
 use crate::image::GreyImage;
-use crate::texture::wrap01;
+use crate::texture::{bilinear_taps, wrap01};
 
 /// How F is read from the table between texel centres.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -101,7 +101,9 @@ impl BumpTable {
 
 impl Level {
     fn with_gradients(width: usize, height: usize, values: &[f32]) -> Level {
-        let at = |i: isize, j: isize| values[(j.rem_euclid(height as isize) as usize) * width + i.rem_euclid(width as isize) as usize];
+        let at = |i: isize, j: isize| {
+            values[(j.rem_euclid(height as isize) as usize) * width + i.rem_euclid(width as isize) as usize]
+        };
         // Central differences with E = one step: (T[i+1] - T[i-1]) / (2 / W).
         let (hw, hh) = (width as f32 * 0.5, height as f32 * 0.5);
         let mut texels = Vec::with_capacity(width * height);
@@ -126,14 +128,8 @@ impl Level {
                 self.texels[j * w + i]
             }
             Interp::Bilinear => {
-                let x = wrap01(s) * w as f32 - 0.5;
-                let y = wrap01(t) * h as f32 - 0.5;
-                let (x0, y0) = (x.floor(), y.floor());
-                let (fx, fy) = (x - x0, y - y0);
-                // x0 >= -1, so adding the width keeps the index positive before the wrap.
-                let i0 = (x0 as isize + w as isize) as usize % w;
-                let j0 = (y0 as isize + h as isize) as usize % h;
-                let (i1, j1) = (if i0 + 1 == w { 0 } else { i0 + 1 }, if j0 + 1 == h { 0 } else { j0 + 1 });
+                let (i0, i1, fx) = bilinear_taps(s, w);
+                let (j0, j1, fy) = bilinear_taps(t, h);
                 let (a, b) = (self.texels[j0 * w + i0], self.texels[j0 * w + i1]);
                 let (c, d) = (self.texels[j1 * w + i0], self.texels[j1 * w + i1]);
                 std::array::from_fn(|k| {

@@ -84,7 +84,13 @@ fn sphere(r: f32, u: f32, v: f32) -> SurfaceFrame {
     let theta = PI * (v - 0.5);
     let (st, ct) = theta.sin_cos();
     // Exact poles, so that all the pole's vertices coincide and the tessellation stays watertight.
-    let (st, ct) = if v <= 0.0 { (-1.0, 0.0) } else if v >= 1.0 { (1.0, 0.0) } else { (st, ct) };
+    let (st, ct) = if v <= 0.0 {
+        (-1.0, 0.0)
+    } else if v >= 1.0 {
+        (1.0, 0.0)
+    } else {
+        (st, ct)
+    };
     let (a, b) = (TAU, PI);
     SurfaceFrame {
         p: r * Vec3::new(ct * cp, st, -ct * sp),
@@ -185,7 +191,12 @@ mod tests {
             Surface::Cylinder { radius: 0.7, height: 2.0 },
             Surface::Torus { major_radius: 1.0, minor_radius: 0.3 },
             Surface::Patch {
-                corners: [Vec3::new(-1., -1., 0.), Vec3::new(1., -1., 0.), Vec3::new(1., 1., 0.5), Vec3::new(-1., 1., 0.)],
+                corners: [
+                    Vec3::new(-1., -1., 0.),
+                    Vec3::new(1., -1., 0.),
+                    Vec3::new(1., 1., 0.5),
+                    Vec3::new(-1., 1., 0.),
+                ],
             },
             Surface::Bicubic { points: pts },
         ]
@@ -209,7 +220,10 @@ mod tests {
                 ];
                 for (k, (exact, approx)) in checks.iter().enumerate() {
                     let tol = 2e-3 * (1.0 + exact.length());
-                    assert!((*exact - *approx).length() < tol, "{s:?} derivative {k} at ({u},{v}): {exact} vs {approx}");
+                    assert!(
+                        (*exact - *approx).length() < tol,
+                        "{s:?} derivative {k} at ({u},{v}): {exact} vs {approx}"
+                    );
                 }
             }
         }

@@ -30,11 +30,7 @@ pub fn grid(surface: &Surface, nu: usize, nv: usize) -> Mesh {
             let uv = Vec2::new(i as f32 / nu as f32, j as f32 / nv as f32);
             // A seam reuses the other side's position so both sides meet exactly.
             let (si, sj) = (if wrap_u && i == nu { 0 } else { i }, if wrap_v && j == nv { 0 } else { j });
-            let p = if (si, sj) == (i, j) {
-                surface.position(uv.x, uv.y)
-            } else {
-                mesh.positions[sj * columns + si]
-            };
+            let p = if (si, sj) == (i, j) { surface.position(uv.x, uv.y) } else { mesh.positions[sj * columns + si] };
             mesh.positions.push(p);
             mesh.uvs.push(uv);
         }

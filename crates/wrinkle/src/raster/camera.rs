@@ -60,7 +60,11 @@ impl Camera {
         match self.projection {
             Projection::Perspective { .. } => {
                 let depth = -self.world_to_camera.transform_point3(world).z;
-                if depth > NEAR { self.scale / depth } else { 0.0 }
+                if depth > NEAR {
+                    self.scale / depth
+                } else {
+                    0.0
+                }
             }
             Projection::Orthographic { .. } => self.scale,
         }
@@ -89,7 +93,14 @@ mod tests {
 
     #[test]
     fn projects_and_casts_consistently() {
-        let cam = Camera::new(Vec3::new(1.0, 2.0, 5.0), Vec3::ZERO, Vec3::Y, Projection::Perspective { fov_y: 40.0 }, 320, 200);
+        let cam = Camera::new(
+            Vec3::new(1.0, 2.0, 5.0),
+            Vec3::ZERO,
+            Vec3::Y,
+            Projection::Perspective { fov_y: 40.0 },
+            320,
+            200,
+        );
         let (o, d) = cam.ray(Vec2::new(160.0, 100.0));
         assert!((d - (-o).normalize()).length() < 1e-6);
         let world = o + 3.0 * cam.ray(Vec2::new(37.5, 150.25)).1;

@@ -91,7 +91,15 @@ impl<'a> TriangleSetup<'a> {
 
     /// Adds the triangles of one mesh (object-space positions, `object_to_camera`), all of surface `surface`.
     /// `cull` drops triangles that face away from the eye (closed surfaces).
-    pub fn add_mesh(&mut self, positions: &[Vec3], uvs: &[Vec2], triangles: &[[u32; 3]], object_to_camera: &Affine3A, surface: u32, cull: bool) {
+    pub fn add_mesh(
+        &mut self,
+        positions: &[Vec3],
+        uvs: &[Vec2],
+        triangles: &[[u32; 3]],
+        object_to_camera: &Affine3A,
+        surface: u32,
+        cull: bool,
+    ) {
         let cam: Vec<Vec3> = positions.iter().map(|&p| object_to_camera.transform_point3(p)).collect();
         for t in triangles {
             let tri = t.map(|k| ClipVertex { pos: cam[k as usize], uv: uvs[k as usize] });

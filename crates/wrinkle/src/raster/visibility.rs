@@ -109,7 +109,12 @@ impl VisBuffer {
         });
     }
 
-    fn resolve_barycentrics(&mut self, triangles: &[ScreenTriangle], pattern: &SamplePattern, object_of: impl Fn(u32) -> u32) {
+    fn resolve_barycentrics(
+        &mut self,
+        triangles: &[ScreenTriangle],
+        pattern: &SamplePattern,
+        object_of: impl Fn(u32) -> u32,
+    ) {
         for y in 0..self.height {
             for x in 0..self.width {
                 for s in 0..self.spp {
@@ -139,7 +144,12 @@ impl VisBuffer {
 /// Calls `hit(x, y, s, dx, dy)` for every sample s of pixel (x, y) inside `rect` = (x0, y0, width, height)
 /// that the triangle covers under the fill rule; (dx, dy) is the sample's offset from the triangle's origin.
 #[inline]
-pub fn cover(tri: &ScreenTriangle, pattern: &SamplePattern, rect: (usize, usize, usize, usize), mut hit: impl FnMut(usize, usize, usize, f32, f32)) {
+pub fn cover(
+    tri: &ScreenTriangle,
+    pattern: &SamplePattern,
+    rect: (usize, usize, usize, usize),
+    mut hit: impl FnMut(usize, usize, usize, f32, f32),
+) {
     let (rx, ry, rw, rh) = rect;
     let spp = pattern.len();
     let x_lo = (tri.bbox[0] as usize).max(rx);

@@ -6,8 +6,8 @@ mod frame;
 pub use frame::{Aovs, Frame, Stats};
 
 use crate::geometry::tessellate::{grid, segments_for, Mesh};
-use crate::raster::{Bins, Camera, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
 use crate::raster::visibility::EMPTY;
+use crate::raster::{Bins, Camera, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
 use crate::scene::Scene;
 use crate::shade::{BumpFilter, ShadeContext, SurfaceInstance};
 use crate::texture::Footprint;
@@ -82,7 +82,9 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Frame> {
     let meshes: Vec<Mesh> = instances
         .par_iter()
         .map(|inst| {
-            let (nu, nv) = segments_for(&inst.surface, SEGMENT_PX, |p| camera.pixels_per_unit(inst.object_to_world.transform_point3(p)));
+            let (nu, nv) = segments_for(&inst.surface, SEGMENT_PX, |p| {
+                camera.pixels_per_unit(inst.object_to_world.transform_point3(p))
+            });
             grid(&inst.surface, nu, nv)
         })
         .collect();
@@ -114,7 +116,15 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Frame> {
     };
     let mut frame = Frame::new(w, h, options.aovs);
     let band_len = tile_size * w;
-    let job = TileJob { bins: &bins, triangles: &triangles, pattern: &pattern, instances: &instances, shade: &shade_ctx, background: cam.background, aovs: options.aovs };
+    let job = TileJob {
+        bins: &bins,
+        triangles: &triangles,
+        pattern: &pattern,
+        instances: &instances,
+        shade: &shade_ctx,
+        background: cam.background,
+        aovs: options.aovs,
+    };
     let band_aovs: Vec<frame::AovBand> = frame
         .color
         .par_chunks_mut(band_len)
@@ -152,7 +162,14 @@ fn instances(scene: &Scene, turntable_degrees: f32) -> Vec<SurfaceInstance> {
         let normal_matrix = Mat3::from(object_to_world.matrix3).inverse().transpose();
         let closed = object.shape.is_closed();
         for surface in object.shape.surfaces() {
-            out.push(SurfaceInstance { surface, object_to_world, normal_matrix, material: object.material, object: index as u32, two_sided: !closed });
+            out.push(SurfaceInstance {
+                surface,
+                object_to_world,
+                normal_matrix,
+                material: object.material,
+                object: index as u32,
+                two_sided: !closed,
+            });
         }
     }
     out
@@ -161,8 +178,11 @@ fn instances(scene: &Scene, turntable_degrees: f32) -> Vec<SurfaceInstance> {
 /// Clips, projects and sets up every triangle, in parallel over chunks, keeping submission order.
 fn setup_triangles(camera: &Camera, instances: &[SurfaceInstance], meshes: &[Mesh]) -> Vec<ScreenTriangle> {
     const CHUNK: usize = 8192;
-    let jobs: Vec<(usize, usize)> =
-        meshes.iter().enumerate().flat_map(|(s, m)| (0..m.triangles.len()).step_by(CHUNK).map(move |start| (s, start))).collect();
+    let jobs: Vec<(usize, usize)> = meshes
+        .iter()
+        .enumerate()
+        .flat_map(|(s, m)| (0..m.triangles.len()).step_by(CHUNK).map(move |start| (s, start)))
+        .collect();
     let parts: Vec<Vec<ScreenTriangle>> = jobs
         .par_iter()
         .map(|&(s, start)| {
@@ -170,7 +190,14 @@ fn setup_triangles(camera: &Camera, instances: &[SurfaceInstance], meshes: &[Mes
             let end = (start + CHUNK).min(mesh.triangles.len());
             let mut setup = TriangleSetup::new(camera);
             let to_camera = camera.world_to_camera * inst.object_to_world;
-            setup.add_mesh(&mesh.positions, &mesh.uvs, &mesh.triangles[start..end], &to_camera, s as u32, !inst.two_sided);
+            setup.add_mesh(
+                &mesh.positions,
+                &mesh.uvs,
+                &mesh.triangles[start..end],
+                &to_camera,
+                s as u32,
+                !inst.two_sided,
+            );
             setup.triangles
         })
         .collect();
@@ -190,7 +217,15 @@ struct TileJob<'a> {
 
 impl TileJob<'_> {
     /// Rasterizes, shades and resolves one tile into its band of the frame.
-    fn tile(&self, vis: &mut VisBuffer, tile: (usize, usize), band: &mut [[f32; 3]], aov: &mut frame::AovBand, w: usize, h: usize) {
+    fn tile(
+        &self,
+        vis: &mut VisBuffer,
+        tile: (usize, usize),
+        band: &mut [[f32; 3]],
+        aov: &mut frame::AovBand,
+        w: usize,
+        h: usize,
+    ) {
         let instances = self.instances;
         vis.render_tile(self.bins, tile, (w, h), self.triangles, self.pattern, |s| instances[s as usize].object);
         let spp = vis.spp;

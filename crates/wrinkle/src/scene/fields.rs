@@ -22,17 +22,26 @@ impl<'a> Fields<'a> {
     /// The table at `path`; `known` lists the fields it may have, anything else is an error (a typo).
     pub fn new(path: impl Into<String>, value: &'a Value, known: &[&str]) -> Result<Fields<'a>> {
         let path = path.into();
-        let table = value.as_table().ok_or_else(|| Error::scene(&path, format!("expected a table, got {}", describe(value))))?;
+        let table = value
+            .as_table()
+            .ok_or_else(|| Error::scene(&path, format!("expected a table, got {}", describe(value))))?;
         for key in table.keys() {
             if !known.contains(&key.as_str()) {
-                return Err(Error::scene(format!("{path}.{key}"), format!("unknown field (expected one of: {})", known.join(", "))));
+                return Err(Error::scene(
+                    format!("{path}.{key}"),
+                    format!("unknown field (expected one of: {})", known.join(", ")),
+                ));
             }
         }
         Ok(Fields { path, table })
     }
 
     pub fn at(&self, key: &str) -> String {
-        if self.path.is_empty() { key.to_string() } else { format!("{}.{key}", self.path) }
+        if self.path.is_empty() {
+            key.to_string()
+        } else {
+            format!("{}.{key}", self.path)
+        }
     }
 
     pub fn get(&self, key: &str) -> Option<&'a Value> {
@@ -62,7 +71,11 @@ impl<'a> Fields<'a> {
             (None, Some(d)) => d,
             (None, None) => return Err(self.error(key, "missing field")),
         };
-        if ok(v) { Ok(v) } else { Err(self.error(key, format!("expected {what}, got {v}"))) }
+        if ok(v) {
+            Ok(v)
+        } else {
+            Err(self.error(key, format!("expected {what}, got {v}")))
+        }
     }
 
     pub fn integer_where(&self, key: &str, default: usize, min: usize, max: usize) -> Result<usize> {

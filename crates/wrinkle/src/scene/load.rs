@@ -84,12 +84,15 @@ fn parse_camera(v: &Value) -> Result<CameraDesc> {
     if (look_at - eye).normalize().cross(up).length() < 1e-6 {
         return Err(Error::scene(f.at("up"), "must not be parallel to the view direction"));
     }
-    let kind = f.choice("projection", "perspective", &[("perspective", "perspective"), ("orthographic", "orthographic")])?;
+    let kind =
+        f.choice("projection", "perspective", &[("perspective", "perspective"), ("orthographic", "orthographic")])?;
     let projection = if kind == "perspective" {
         if f.get("height").is_some() {
             return Err(Error::scene(f.at("height"), "only for projection = \"orthographic\""));
         }
-        Projection::Perspective { fov_y: f.number_where("fov_y", Some(40.0), |x| x > 0.0 && x < 180.0, "degrees between 0 and 180")? }
+        Projection::Perspective {
+            fov_y: f.number_where("fov_y", Some(40.0), |x| x > 0.0 && x < 180.0, "degrees between 0 and 180")?,
+        }
     } else {
         if f.get("fov_y").is_some() {
             return Err(Error::scene(f.at("fov_y"), "only for projection = \"perspective\""));
@@ -104,14 +107,18 @@ fn parse_camera(v: &Value) -> Result<CameraDesc> {
 fn colour(f: &Fields, key: &str, default: Vec3) -> Result<Vec3> {
     let c = f.vec3(key)?.unwrap_or(default);
     if c.min_element() < 0.0 {
-        return Err(Error::scene(f.at(key), format!("expected non-negative colour components, got [{}, {}, {}]", c.x, c.y, c.z)));
+        return Err(Error::scene(
+            f.at(key),
+            format!("expected non-negative colour components, got [{}, {}, {}]", c.x, c.y, c.z),
+        ));
     }
     Ok(c)
 }
 
 fn parse_light(path: &str, v: &Value) -> Result<Light> {
     let f = Fields::new(path, v, &["type", "direction", "position", "color", "intensity"])?;
-    let radiance = colour(&f, "color", Vec3::ONE)? * f.number_where("intensity", Some(1.0), non_negative, "a non-negative intensity")?;
+    let radiance = colour(&f, "color", Vec3::ONE)?
+        * f.number_where("intensity", Some(1.0), non_negative, "a non-negative intensity")?;
     let kind = f.required("type", f.string("type")?)?;
     let only = |key: &str, kinds: &str| -> Result<()> {
         match f.get(key) {
@@ -137,11 +144,25 @@ fn parse_light(path: &str, v: &Value) -> Result<Light> {
             only("position", "\"point\"")?;
             Ok(Light::Ambient { radiance })
         }
-        other => Err(Error::scene(f.at("type"), format!("expected one of \"directional\", \"point\", \"ambient\", got \"{other}\""))),
+        other => Err(Error::scene(
+            f.at("type"),
+            format!("expected one of \"directional\", \"point\", \"ambient\", got \"{other}\""),
+        )),
     }
 }
 
-const SHAPE_FIELDS: &[&str] = &["shape", "transform", "material", "radius", "height", "major_radius", "minor_radius", "corners", "points", "size"];
+const SHAPE_FIELDS: &[&str] = &[
+    "shape",
+    "transform",
+    "material",
+    "radius",
+    "height",
+    "major_radius",
+    "minor_radius",
+    "corners",
+    "points",
+    "size",
+];
 
 fn parse_object(path: &str, v: &Value, base: &Path, material_index: usize) -> Result<(Object, Material)> {
     let f = Fields::new(path, v, SHAPE_FIELDS)?;
@@ -162,7 +183,10 @@ fn parse_object(path: &str, v: &Value, base: &Path, material_index: usize) -> Re
     };
     for key in &SHAPE_FIELDS[3..] {
         if f.get(key).is_some() && !allowed.contains(key) {
-            return Err(Error::scene(f.at(key), format!("not a field of shape \"{kind}\" (it has: {})", allowed.join(", "))));
+            return Err(Error::scene(
+                f.at(key),
+                format!("not a field of shape \"{kind}\" (it has: {})", allowed.join(", ")),
+            ));
         }
     }
     let len = |key: &str, default: f32| f.number_where(key, Some(default), positive, "a positive length");
@@ -187,7 +211,10 @@ fn parse_object(path: &str, v: &Value, base: &Path, material_index: usize) -> Re
         _ => {
             let size = f.vec3("size")?.unwrap_or(Vec3::ONE);
             if size.min_element() <= 0.0 {
-                return Err(Error::scene(f.at("size"), format!("expected positive edge lengths, got [{}, {}, {}]", size.x, size.y, size.z)));
+                return Err(Error::scene(
+                    f.at("size"),
+                    format!("expected positive edge lengths, got [{}, {}, {}]", size.x, size.y, size.z),
+                ));
             }
             Shape::Box { size }
         }
@@ -214,7 +241,11 @@ fn parse_transform(path: &str, v: &Value) -> Result<Transform> {
     if scale.abs().min_element() == 0.0 {
         return Err(Error::scene(f.at("scale"), "must not be zero along any axis"));
     }
-    Ok(Transform { translate: f.vec3("translate")?.unwrap_or(Vec3::ZERO), rotate: f.vec3("rotate")?.unwrap_or(Vec3::ZERO), scale })
+    Ok(Transform {
+        translate: f.vec3("translate")?.unwrap_or(Vec3::ZERO),
+        rotate: f.vec3("rotate")?.unwrap_or(Vec3::ZERO),
+        scale,
+    })
 }
 
 fn default_material() -> Material {
@@ -242,7 +273,11 @@ fn parse_material(path: &str, v: &Value, base: &Path) -> Result<Material> {
 
 fn resolve(base: &Path, name: &str) -> PathBuf {
     let p = Path::new(name);
-    if p.is_absolute() { p.to_path_buf() } else { base.join(p) }
+    if p.is_absolute() {
+        p.to_path_buf()
+    } else {
+        base.join(p)
+    }
 }
 
 /// A positive replication count per axis (default [1, 1]).
@@ -287,7 +322,11 @@ fn parse_bump(path: &str, v: &Value, base: &Path) -> Result<Bump> {
         table: Arc::new(BumpTable::new(&image)),
         scale: f.number_or("scale", 0.05)?,
         repeat: repeat(&f)?,
-        interp: f.choice("interp", Interp::Bilinear, &[("nearest", Interp::Nearest), ("bilinear", Interp::Bilinear)])?,
+        interp: f.choice(
+            "interp",
+            Interp::Bilinear,
+            &[("nearest", Interp::Nearest), ("bilinear", Interp::Bilinear)],
+        )?,
         formula,
         filter: f.choice("filter", BumpFilter::None, &[("none", BumpFilter::None), ("mip", BumpFilter::Mip)])?,
     })
@@ -297,7 +336,20 @@ fn parse_generator(path: &str, v: &Value) -> Result<crate::image::GreyImage> {
     let f = Fields::new(
         path,
         v,
-        &["kind", "size", "cells", "line_width", "soft", "text", "count", "radius", "rows", "bricks_per_row", "mortar", "bevel"],
+        &[
+            "kind",
+            "size",
+            "cells",
+            "line_width",
+            "soft",
+            "text",
+            "count",
+            "radius",
+            "rows",
+            "bricks_per_row",
+            "mortar",
+            "bevel",
+        ],
     )?;
     let size = f.integer_where("size", 256, 1, 8192)?;
     let kind = f.required("kind", f.string("kind")?)?;
@@ -307,20 +359,33 @@ fn parse_generator(path: &str, v: &Value) -> Result<crate::image::GreyImage> {
             let d = GridParams::default();
             Generator::Grid(GridParams {
                 cells: f.integer_where("cells", d.cells, 1, 4096)?,
-                line_width: f.number_where("line_width", Some(d.line_width), fraction, "a fraction of a cell from 0 to 1")?,
+                line_width: f.number_where(
+                    "line_width",
+                    Some(d.line_width),
+                    fraction,
+                    "a fraction of a cell from 0 to 1",
+                )?,
                 soft: f.number_where("soft", Some(d.soft), fraction, "a fraction of a cell from 0 to 1")?,
             })
         }
         "text" => {
             let d = TextParams::default();
             let text = f.string("text")?.map(str::to_string).unwrap_or(d.text);
-            Generator::Text(TextParams { text, soft: f.number_where("soft", Some(d.soft), fraction, "a fraction from 0 to 1")? })
+            Generator::Text(TextParams {
+                text,
+                soft: f.number_where("soft", Some(d.soft), fraction, "a fraction from 0 to 1")?,
+            })
         }
         "rivets" => {
             let d = RivetParams::default();
             Generator::Rivets(RivetParams {
                 count: f.integer_where("count", d.count, 1, 4096)?,
-                radius: f.number_where("radius", Some(d.radius), |r| r > 0.0 && r <= 0.5, "a radius from 0 to 0.5 cells")?,
+                radius: f.number_where(
+                    "radius",
+                    Some(d.radius),
+                    |r| r > 0.0 && r <= 0.5,
+                    "a radius from 0 to 0.5 cells",
+                )?,
             })
         }
         "bricks" => {
@@ -332,7 +397,12 @@ fn parse_generator(path: &str, v: &Value) -> Result<crate::image::GreyImage> {
                 bevel: f.number_where("bevel", Some(d.bevel), fraction, "a fraction from 0 to 1")?,
             })
         }
-        other => return Err(Error::scene(f.at("kind"), format!("expected one of \"grid\", \"text\", \"rivets\", \"bricks\", got \"{other}\""))),
+        other => {
+            return Err(Error::scene(
+                f.at("kind"),
+                format!("expected one of \"grid\", \"text\", \"rivets\", \"bricks\", got \"{other}\""),
+            ))
+        }
     };
     generator.generate(size).map_err(|e| match e {
         Error::Invalid(m) => Error::scene(path, m),

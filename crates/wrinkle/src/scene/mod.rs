@@ -26,7 +26,9 @@ pub struct CameraDesc {
 pub enum Shape {
     Surface(Surface),
     /// Edge lengths along x, y, z, centred on the origin.
-    Box { size: Vec3 },
+    Box {
+        size: Vec3,
+    },
 }
 
 impl Shape {

@@ -58,7 +58,11 @@ impl ShadeContext<'_> {
         let frame = inst.surface.frame(uv.x, uv.y);
         let n_geo = frame.pu.cross(frame.pv);
         let n_obj = match (&material.bump, self.bump_enabled) {
-            (Some(bump), true) => perturbed_normal(&frame, bump.perturbation(uv, footprint, self.bump_filter.unwrap_or(bump.filter)), bump.formula),
+            (Some(bump), true) => perturbed_normal(
+                &frame,
+                bump.perturbation(uv, footprint, self.bump_filter.unwrap_or(bump.filter)),
+                bump.formula,
+            ),
             _ => n_geo,
         };
         let position = inst.object_to_world.transform_point3(frame.p);
@@ -91,9 +95,15 @@ impl Bump {
         let st = uv * self.repeat;
         let level = match filter {
             BumpFilter::None => 0.0,
-            BumpFilter::Mip => footprint.replicated(self.repeat.x, self.repeat.y).mip_level(self.table.width(), self.table.height()),
+            BumpFilter::Mip => {
+                footprint.replicated(self.repeat.x, self.repeat.y).mip_level(self.table.width(), self.table.height())
+            }
         };
         let b = self.table.sample(st.x, st.y, self.interp, level);
-        Perturbation { f: self.scale * b.f, fu: self.scale * self.repeat.x * b.fs, fv: self.scale * self.repeat.y * b.ft }
+        Perturbation {
+            f: self.scale * b.f,
+            fu: self.scale * self.repeat.x * b.fs,
+            fv: self.scale * self.repeat.y * b.ft,
+        }
     }
 }

@@ -22,7 +22,11 @@ impl Footprint {
         let lx = (self.dudx * w).hypot(self.dvdx * h);
         let ly = (self.dudy * w).hypot(self.dvdy * h);
         let len = lx.max(ly);
-        if len > 1.0 { len.log2() } else { 0.0 }
+        if len > 1.0 {
+            len.log2()
+        } else {
+            0.0
+        }
     }
 }
 

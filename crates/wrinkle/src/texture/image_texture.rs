@@ -1,7 +1,7 @@
 //! A colour texture from an 8-bit image: sRGB texels decoded to linear light, bilinear reconstruction,
 //! periodic wrap and a replication count.
 
-use super::{wrap01, Footprint, Texture};
+use super::{bilinear_taps, Footprint, Texture};
 use crate::image::{color::srgb8_decode_table, Image};
 use glam::{Vec2, Vec4};
 
@@ -30,14 +30,8 @@ impl ImageTexture {
 
     /// Bilinear reconstruction at (s,t) in [0,1) of one period, texel centres at (i + 0.5) / W.
     pub fn bilinear(&self, s: f32, t: f32) -> Vec4 {
-        let (w, h) = (self.width, self.height);
-        let x = wrap01(s) * w as f32 - 0.5;
-        let y = wrap01(t) * h as f32 - 0.5;
-        let (x0, y0) = (x.floor(), y.floor());
-        let (fx, fy) = (x - x0, y - y0);
-        let i0 = (x0 as isize).rem_euclid(w as isize) as usize;
-        let j0 = (y0 as isize).rem_euclid(h as isize) as usize;
-        let (i1, j1) = ((i0 + 1) % w, (j0 + 1) % h);
+        let (i0, i1, fx) = bilinear_taps(s, self.width);
+        let (j0, j1, fy) = bilinear_taps(t, self.height);
         let bottom = self.texel(i0, j0).lerp(self.texel(i1, j0), fx);
         let top = self.texel(i0, j1).lerp(self.texel(i1, j1), fx);
         bottom.lerp(top, fy)
@@ -57,7 +51,11 @@ mod tests {
 
     fn two_by_two() -> ImageTexture {
         // Row 0 is the top: v near 1.
-        let img = Image { width: 2, height: 2, pixels: vec![[0, 0, 0, 255], [255, 0, 0, 255], [0, 255, 0, 255], [0, 0, 255, 255]] };
+        let img = Image {
+            width: 2,
+            height: 2,
+            pixels: vec![[0, 0, 0, 255], [255, 0, 0, 255], [0, 255, 0, 255], [0, 0, 255, 255]],
+        };
         ImageTexture::new(img, false, Vec2::ONE)
     }
 

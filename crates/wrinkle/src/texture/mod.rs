@@ -20,5 +20,22 @@ pub trait Texture: Send + Sync {
 pub fn wrap01(x: f32) -> f32 {
     let f = x - x.floor();
     // x slightly below an integer can round to exactly 1.0.
-    if f >= 1.0 { 0.0 } else { f }
+    if f >= 1.0 {
+        0.0
+    } else {
+        f
+    }
+}
+
+/// The two texels around `s` (one period per unit, texel centres at (i + 0.5) / n, periodic) and the
+/// weight of the second: the bilinear taps along one axis. No division, no floor call: this runs per sample.
+#[inline]
+pub fn bilinear_taps(s: f32, n: usize) -> (usize, usize, f32) {
+    let x = wrap01(s) * n as f32 + 0.5;
+    // x is in [0.5, n + 0.5]: truncation is the floor, and x - 1 is the position in texel-centre units.
+    let k = x as usize;
+    let f = x - k as f32;
+    let i0 = if k == 0 { n - 1 } else { k - 1 };
+    let i1 = if k >= n { k - n } else { k };
+    (i0.min(n - 1), i1.min(n - 1), f)
 }
