@@ -5,8 +5,8 @@
 //! Blinn's central difference of a lookup shifted by exactly one table step lands on the neighbouring
 //! texels with the same interpolation weights, so
 //!     (FVAL(u+E) - FVAL(u-E)) / 2E  ==  lookup of the table G[i] = (T[i+1] - T[i-1]) / 2E.
-//! Each level therefore stores (T, G_u, G_v) per texel, and one lookup gives F, Fu and Fv together,
-//! exactly equal to Blinn's three lookups (nearest or bilinear alike).
+//! A lookup therefore reads the 4x4 neighbourhood once and returns F, Fu and Fv together, exactly equal
+//! to Blinn's three lookups (nearest or bilinear alike).
 //!
 //! Texel (i,j) has its centre at ((i+0.5)/W, (j+0.5)/H), j counted from the bottom (the project's
 //! convention). Blinn's FORTRAN bilinear FVAL puts table entries at the cell corners i/W instead: the same
@@ -35,8 +35,8 @@ pub struct BumpSample {
 struct Level {
     width: usize,
     height: usize,
-    /// (T, dT/ds, dT/dt, unused), row 0 at the bottom (t near 0).
-    texels: Vec<[f32; 4]>,
+    /// T, row 0 at the bottom (t near 0).
+    values: Vec<f32>,
 }
 
 /// A periodic bump table with its MIP pyramid.
@@ -52,12 +52,12 @@ impl BumpTable {
         for j in 0..h {
             values.extend_from_slice(image.row(h - 1 - j));
         }
-        let mut levels = vec![Level::with_gradients(w, h, &values)];
+        let mut levels = vec![Level::new(w, h, values)];
         let (mut w, mut h) = (w, h);
         while w > 1 || h > 1 {
             let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));
-            values = box_resample(&values, w, h, nw, nh);
-            levels.push(Level::with_gradients(nw, nh, &values));
+            let smaller = box_resample(&levels[levels.len() - 1].values, w, h, nw, nh);
+            levels.push(Level::new(nw, nh, smaller));
             (w, h) = (nw, nh);
         }
         BumpTable { levels }
@@ -100,43 +100,48 @@ impl BumpTable {
 }
 
 impl Level {
-    fn with_gradients(width: usize, height: usize, values: &[f32]) -> Level {
-        let at = |i: isize, j: isize| {
-            values[(j.rem_euclid(height as isize) as usize) * width + i.rem_euclid(width as isize) as usize]
-        };
-        // Central differences with E = one step: (T[i+1] - T[i-1]) / (2 / W).
-        let (hw, hh) = (width as f32 * 0.5, height as f32 * 0.5);
-        let mut texels = Vec::with_capacity(width * height);
-        for j in 0..height as isize {
-            for i in 0..width as isize {
-                let gs = (at(i + 1, j) - at(i - 1, j)) * hw;
-                let gt = (at(i, j + 1) - at(i, j - 1)) * hh;
-                texels.push([at(i, j), gs, gt, 0.0]);
-            }
-        }
-        Level { width, height, texels }
+    fn new(width: usize, height: usize, values: Vec<f32>) -> Level {
+        Level { width, height, values }
     }
 
     #[inline]
-    fn lookup(&self, s: f32, t: f32, interp: Interp) -> [f32; 4] {
+    fn at(&self, i: usize, j: usize) -> f32 {
+        self.values[j * self.width + i]
+    }
+
+    /// (T, dT/ds, dT/dt) at (s,t). The derivatives are Blinn's central differences with E = one step,
+    /// (T[i+1] - T[i-1]) / (2 / W), read from the neighbours on the fly: the table stays one f32 per texel,
+    /// four times smaller (and faster to stream through the cache) than storing the gradients.
+    #[inline]
+    fn lookup(&self, s: f32, t: f32, interp: Interp) -> [f32; 3] {
         let (w, h) = (self.width, self.height);
+        let (hw, hh) = (w as f32 * 0.5, h as f32 * 0.5);
+        let prev = |i: usize, n: usize| if i == 0 { n - 1 } else { i - 1 };
+        let next = |i: usize, n: usize| if i + 1 == n { 0 } else { i + 1 };
         match interp {
             Interp::Nearest => {
                 // FVAL: IU = IFIX(W * U), masked to the table (periodic).
                 let i = ((wrap01(s) * w as f32) as usize).min(w - 1);
                 let j = ((wrap01(t) * h as f32) as usize).min(h - 1);
-                self.texels[j * w + i]
+                let gs = (self.at(next(i, w), j) - self.at(prev(i, w), j)) * hw;
+                let gt = (self.at(i, next(j, h)) - self.at(i, prev(j, h))) * hh;
+                [self.at(i, j), gs, gt]
             }
             Interp::Bilinear => {
                 let (i0, i1, fx) = bilinear_taps(s, w);
                 let (j0, j1, fy) = bilinear_taps(t, h);
-                let (a, b) = (self.texels[j0 * w + i0], self.texels[j0 * w + i1]);
-                let (c, d) = (self.texels[j1 * w + i0], self.texels[j1 * w + i1]);
-                std::array::from_fn(|k| {
-                    let bottom = a[k] + fx * (b[k] - a[k]);
-                    let top = c[k] + fx * (d[k] - c[k]);
-                    bottom + fy * (top - bottom)
-                })
+                let (im, i2) = (prev(i0, w), next(i1, w));
+                let (jm, j2) = (prev(j0, h), next(j1, h));
+                let (r0, r1) = (&self.values[j0 * w..(j0 + 1) * w], &self.values[j1 * w..(j1 + 1) * w]);
+                let (rm, r2) = (&self.values[jm * w..(jm + 1) * w], &self.values[j2 * w..(j2 + 1) * w]);
+                let lerp2 = |a: f32, b: f32, c: f32, d: f32| {
+                    let bottom = a + fx * (b - a);
+                    bottom + fy * (c + fx * (d - c) - bottom)
+                };
+                let f = lerp2(r0[i0], r0[i1], r1[i0], r1[i1]);
+                let gs = lerp2(r0[i1] - r0[im], r0[i2] - r0[i0], r1[i1] - r1[im], r1[i2] - r1[i0]) * hw;
+                let gt = lerp2(r1[i0] - rm[i0], r1[i1] - rm[i1], r2[i0] - r0[i0], r2[i1] - r0[i1]) * hh;
+                [f, gs, gt]
             }
         }
     }

@@ -45,10 +45,10 @@ fn distance(plane: Vec4, p: Vec3) -> f32 {
     plane.x * p.x + plane.y * p.y + plane.z * p.z + plane.w
 }
 
-/// Whether the triangle lies wholly inside every plane (the common case, no clipping needed).
+/// Whether a point lies inside every plane.
 #[inline]
-pub fn inside_all(planes: &[Vec4; 5], tri: &[ClipVertex; 3]) -> bool {
-    planes.iter().all(|&pl| tri.iter().all(|v| distance(pl, v.pos) >= 0.0))
+pub fn inside_all(planes: &[Vec4; 5], p: &Vec3) -> bool {
+    planes.iter().all(|&pl| distance(pl, *p) >= 0.0)
 }
 
 fn key(p: Vec3) -> [u32; 3] {

@@ -76,6 +76,18 @@ impl ScreenTriangle {
     }
 }
 
+/// A mesh vertex in camera space with its projection, computed once and shared by its triangles.
+#[derive(Clone, Copy, Debug)]
+pub struct ProjectedVertex {
+    pub clip: ClipVertex,
+    /// Snapped screen position, 1/SUBPIXEL pixel units.
+    fixed: [i64; 2],
+    /// 1/w (1 for orthographic).
+    q: f32,
+    /// Inside every clip plane: triangles made only of such vertices need no clipping.
+    inside: bool,
+}
+
 /// Projects and sets up triangles of one camera, clipping where needed.
 pub struct TriangleSetup<'a> {
     camera: &'a Camera,
@@ -89,37 +101,42 @@ impl<'a> TriangleSetup<'a> {
         TriangleSetup { camera, planes: clip_planes(camera), polygon: Vec::with_capacity(9), triangles: Vec::new() }
     }
 
-    /// Adds the triangles of one mesh (object-space positions, `object_to_camera`), all of surface `surface`.
+    /// Carries a mesh's object-space vertices into camera space and onto the screen.
+    pub fn project_vertices(&self, positions: &[Vec3], uvs: &[Vec2], object_to_camera: &Affine3A) -> Vec<ProjectedVertex> {
+        positions.iter().zip(uvs).map(|(&p, &uv)| self.project(ClipVertex { pos: object_to_camera.transform_point3(p), uv })).collect()
+    }
+
+    fn project(&self, clip: ClipVertex) -> ProjectedVertex {
+        let inside = inside_all(&self.planes, &clip.pos);
+        let (screen, q) = self.camera.project(clip.pos);
+        // Points behind the eye project to nonsense, but their triangles take the clipping path and never use it.
+        let fixed = [(screen.x * SUBPIXEL as f32).round() as i64, (screen.y * SUBPIXEL as f32).round() as i64];
+        ProjectedVertex { clip, fixed, q, inside }
+    }
+
+    /// Adds the triangles of a projected mesh, all of surface `surface`.
     /// `cull` drops triangles that face away from the eye (closed surfaces).
-    pub fn add_mesh(
-        &mut self,
-        positions: &[Vec3],
-        uvs: &[Vec2],
-        triangles: &[[u32; 3]],
-        object_to_camera: &Affine3A,
-        surface: u32,
-        cull: bool,
-    ) {
-        let cam: Vec<Vec3> = positions.iter().map(|&p| object_to_camera.transform_point3(p)).collect();
+    pub fn add_triangles(&mut self, vertices: &[ProjectedVertex], triangles: &[[u32; 3]], surface: u32, cull: bool) {
+        self.triangles.reserve(triangles.len());
         for t in triangles {
-            let tri = t.map(|k| ClipVertex { pos: cam[k as usize], uv: uvs[k as usize] });
-            if inside_all(&self.planes, &tri) {
+            let tri = t.map(|k| vertices[k as usize]);
+            if tri.iter().all(|v| v.inside) {
                 self.add_triangle(&tri, surface, cull);
             } else {
                 let mut poly = std::mem::take(&mut self.polygon);
-                clip_polygon(&self.planes, &tri, &mut poly);
+                clip_polygon(&self.planes, &tri.map(|v| v.clip), &mut poly);
                 for k in 1..poly.len().saturating_sub(1) {
-                    self.add_triangle(&[poly[0], poly[k], poly[k + 1]], surface, cull);
+                    let piece = [poly[0], poly[k], poly[k + 1]].map(|c| self.project(c));
+                    self.add_triangle(&piece, surface, cull);
                 }
                 self.polygon = poly;
             }
         }
     }
 
-    fn add_triangle(&mut self, tri: &[ClipVertex; 3], surface: u32, cull: bool) {
+    fn add_triangle(&mut self, tri: &[ProjectedVertex; 3], surface: u32, cull: bool) {
         let cam = self.camera;
-        let proj = tri.map(|v| cam.project(v.pos));
-        let fixed = proj.map(|(s, _)| [(s.x * SUBPIXEL as f32).round() as i64, (s.y * SUBPIXEL as f32).round() as i64]);
+        let fixed = tri.map(|v| v.fixed);
         let area = edge_at(fixed[0], fixed[1], fixed[2]);
         if area == 0 {
             return;
@@ -153,19 +170,19 @@ impl<'a> TriangleSetup<'a> {
         }
         // Planes from the snapped positions, so interpolation agrees with coverage.
         let pos = fx.map(|p| [p[0] as f64 / SUBPIXEL as f64, p[1] as f64 / SUBPIXEL as f64]);
-        let q = order.map(|k| proj[k].1 as f64);
-        let depth_key = order.map(|k| if cam.is_perspective() { proj[k].1 as f64 } else { tri[k].pos.z as f64 });
-        let plane = |a: [f64; 3]| plane_through(&pos, a);
+        let q = order.map(|k| tri[k].q as f64);
+        let depth_key = order.map(|k| if cam.is_perspective() { tri[k].q as f64 } else { tri[k].clip.pos.z as f64 });
+        let basis = PlaneBasis::new(&pos);
         self.triangles.push(ScreenTriangle {
             edges,
             bias,
             bbox: [minx as i32, miny as i32, maxx as i32, maxy as i32],
             origin: Vec2::new(pos[0][0] as f32, pos[0][1] as f32),
-            depth: plane(depth_key),
-            s: plane(q),
-            b1: plane([0.0, q[1], 0.0]),
-            b2: plane([0.0, 0.0, q[2]]),
-            uv: order.map(|k| tri[k].uv),
+            depth: basis.plane(depth_key),
+            s: basis.plane(q),
+            b1: basis.plane([0.0, q[1], 0.0]),
+            b2: basis.plane([0.0, 0.0, q[2]]),
+            uv: order.map(|k| tri[k].clip.uv),
             surface,
         });
     }
@@ -177,13 +194,31 @@ fn edge_at(a: [i64; 2], b: [i64; 2], p: [i64; 2]) -> i64 {
     (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])
 }
 
-/// The affine function through three screen points with values `a`, relative to the first point.
-fn plane_through(p: &[[f64; 2]; 3], a: [f64; 3]) -> Plane {
-    let (x1, y1) = (p[1][0] - p[0][0], p[1][1] - p[0][1]);
-    let (x2, y2) = (p[2][0] - p[0][0], p[2][1] - p[0][1]);
-    let det = x1 * y2 - x2 * y1;
-    let (a1, a2) = (a[1] - a[0], a[2] - a[0]);
-    Plane { a0: a[0] as f32, ax: ((a1 * y2 - a2 * y1) / det) as f32, ay: ((x1 * a2 - x2 * a1) / det) as f32 }
+/// Screen-space geometry of a triangle, relative to its first vertex, for fitting affine attributes.
+struct PlaneBasis {
+    x1: f64,
+    y1: f64,
+    x2: f64,
+    y2: f64,
+    inv_det: f64,
+}
+
+impl PlaneBasis {
+    fn new(p: &[[f64; 2]; 3]) -> PlaneBasis {
+        let (x1, y1) = (p[1][0] - p[0][0], p[1][1] - p[0][1]);
+        let (x2, y2) = (p[2][0] - p[0][0], p[2][1] - p[0][1]);
+        PlaneBasis { x1, y1, x2, y2, inv_det: 1.0 / (x1 * y2 - x2 * y1) }
+    }
+
+    /// The affine function with values `a` at the three points, relative to the first.
+    fn plane(&self, a: [f64; 3]) -> Plane {
+        let (a1, a2) = (a[1] - a[0], a[2] - a[0]);
+        Plane {
+            a0: a[0] as f32,
+            ax: ((a1 * self.y2 - a2 * self.y1) * self.inv_det) as f32,
+            ay: ((self.x1 * a2 - self.x2 * a1) * self.inv_det) as f32,
+        }
+    }
 }
 
 #[cfg(test)]
@@ -193,7 +228,7 @@ mod tests {
     #[test]
     fn plane_reproduces_vertex_values() {
         let p = [[1.0, 2.0], [11.0, 3.0], [4.0, 9.0]];
-        let pl = plane_through(&p, [0.5, 2.0, -1.0]);
+        let pl = PlaneBasis::new(&p).plane([0.5, 2.0, -1.0]);
         for (k, v) in [0.5f32, 2.0, -1.0].iter().enumerate() {
             let got = pl.at((p[k][0] - p[0][0]) as f32, (p[k][1] - p[0][1]) as f32);
             assert!((got - v).abs() < 1e-5);

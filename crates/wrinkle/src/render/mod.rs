@@ -7,6 +7,7 @@ pub use frame::{Aovs, Frame, Stats};
 
 use crate::geometry::tessellate::{grid, segments_for, Mesh};
 use crate::raster::visibility::EMPTY;
+use crate::raster::setup::ProjectedVertex;
 use crate::raster::{Bins, Camera, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
 use crate::scene::Scene;
 use crate::shade::{BumpFilter, ShadeContext, SurfaceInstance};
@@ -21,7 +22,7 @@ pub const MAX_SIDE: usize = 16384;
 
 /// About how many pixels one tessellation segment spans on screen: fine enough that the triangles'
 /// (u,v) stay within a small fraction of a pixel of the exact surface's.
-const SEGMENT_PX: f32 = 8.0;
+const SEGMENT_PX: f32 = 12.0;
 
 #[derive(Clone, Debug)]
 pub struct RenderOptions {
@@ -178,6 +179,12 @@ fn instances(scene: &Scene, turntable_degrees: f32) -> Vec<SurfaceInstance> {
 /// Clips, projects and sets up every triangle, in parallel over chunks, keeping submission order.
 fn setup_triangles(camera: &Camera, instances: &[SurfaceInstance], meshes: &[Mesh]) -> Vec<ScreenTriangle> {
     const CHUNK: usize = 8192;
+    let projector = TriangleSetup::new(camera);
+    let projected: Vec<Vec<ProjectedVertex>> = instances
+        .par_iter()
+        .zip(meshes)
+        .map(|(inst, mesh)| projector.project_vertices(&mesh.positions, &mesh.uvs, &(camera.world_to_camera * inst.object_to_world)))
+        .collect();
     let jobs: Vec<(usize, usize)> = meshes
         .iter()
         .enumerate()
@@ -186,18 +193,9 @@ fn setup_triangles(camera: &Camera, instances: &[SurfaceInstance], meshes: &[Mes
     let parts: Vec<Vec<ScreenTriangle>> = jobs
         .par_iter()
         .map(|&(s, start)| {
-            let (inst, mesh) = (&instances[s], &meshes[s]);
-            let end = (start + CHUNK).min(mesh.triangles.len());
+            let tris = &meshes[s].triangles;
             let mut setup = TriangleSetup::new(camera);
-            let to_camera = camera.world_to_camera * inst.object_to_world;
-            setup.add_mesh(
-                &mesh.positions,
-                &mesh.uvs,
-                &mesh.triangles[start..end],
-                &to_camera,
-                s as u32,
-                !inst.two_sided,
-            );
+            setup.add_triangles(&projected[s], &tris[start..(start + CHUNK).min(tris.len())], s as u32, !instances[s].two_sided);
             setup.triangles
         })
         .collect();
@@ -226,6 +224,15 @@ impl TileJob<'_> {
         w: usize,
         h: usize,
     ) {
+        if self.bins.bins[tile.1 * self.bins.tiles_x + tile.0].is_empty() {
+            // Nothing here: the background, and the AOVs keep their NaN.
+            let (x0, tw) = (tile.0 * self.bins.tile_size, self.bins.tile_size.min(w - tile.0 * self.bins.tile_size));
+            let rows = band.len() / w;
+            for y in 0..rows {
+                band[y * w + x0..y * w + x0 + tw].fill(self.background.to_array());
+            }
+            return;
+        }
         let instances = self.instances;
         vis.render_tile(self.bins, tile, (w, h), self.triangles, self.pattern, |s| instances[s as usize].object);
         let spp = vis.spp;

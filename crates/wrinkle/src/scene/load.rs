@@ -7,7 +7,7 @@ use crate::bump::{BumpFormula, BumpTable, Interp};
 use crate::geometry::{Surface, Transform};
 use crate::image::io;
 use crate::raster::Projection;
-use crate::shade::{Bump, BumpFilter, Light, Material};
+use crate::shade::{Bump, BumpFilter, Light, Material, Phong};
 use crate::texture::ImageTexture;
 use crate::{Error, Result};
 use glam::{Vec2, Vec3};
@@ -249,7 +249,7 @@ fn parse_transform(path: &str, v: &Value) -> Result<Transform> {
 }
 
 fn default_material() -> Material {
-    Material { color: Vec3::splat(0.8), texture: None, specular: 0.0, shininess: 20.0, bump: None }
+    Material { color: Vec3::splat(0.8), texture: None, phong: Phong::new(0.0, 20.0), bump: None }
 }
 
 fn parse_material(path: &str, v: &Value, base: &Path) -> Result<Material> {
@@ -265,8 +265,10 @@ fn parse_material(path: &str, v: &Value, base: &Path) -> Result<Material> {
     Ok(Material {
         color: colour(&f, "color", Vec3::splat(0.8))?,
         texture,
-        specular: f.number_where("specular", Some(0.0), non_negative, "a non-negative number")?,
-        shininess: f.number_where("shininess", Some(20.0), positive, "a positive exponent")?,
+        phong: Phong::new(
+            f.number_where("specular", Some(0.0), non_negative, "a non-negative number")?,
+            f.number_where("shininess", Some(20.0), positive, "a positive exponent")?,
+        ),
         bump,
     })
 }

@@ -1,5 +1,6 @@
 //! Materials: a base colour, an optional colour texture, Blinn-Phong specular, an optional bump function.
 
+use super::light::Phong;
 use crate::bump::{BumpFormula, BumpTable, Interp};
 use crate::texture::Texture;
 use glam::{Vec2, Vec3};
@@ -9,8 +10,7 @@ pub struct Material {
     /// Multiplies the texture (or stands alone), linear RGB.
     pub color: Vec3,
     pub texture: Option<Arc<dyn Texture>>,
-    pub specular: f32,
-    pub shininess: f32,
+    pub phong: Phong,
     pub bump: Option<Bump>,
 }
 

@@ -4,7 +4,7 @@
 pub mod light;
 pub mod material;
 
-pub use light::Light;
+pub use light::{Light, Phong};
 pub use material::{Bump, BumpFilter, Material};
 
 use crate::bump::blinn::perturbed_normal;
@@ -82,7 +82,7 @@ impl ShadeContext<'_> {
         };
         let mut color = Vec3::ZERO;
         for light in self.lights {
-            color += light.shade(position, n, v, albedo, material.specular, material.shininess);
+            color += light.shade(position, n, v, albedo, &material.phong);
         }
         ShadedSample { color, normal: n, position, depth }
     }
