@@ -1,0 +1,493 @@
+//! End-to-end tests of the `wrinkle` command: each test runs the built binary in a fresh scratch
+//! folder and checks its exit code, its output files and, for bad input, the one-line error.
+//!
+//! Conventions checked: every error is one line on stderr starting with `error: ` and naming the
+//! file, field or value at fault; exit code 2 for a usage error (arguments, scene or input files),
+//! 1 for a failed job (the output cannot be written); no output or temporary file is left behind.
+
+use std::collections::BTreeSet;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use wrinkle::image::io::read_exr_channels;
+
+/// Small images keep every render fast.
+const W: &str = "64";
+const H: &str = "48";
+
+/// A fresh folder under the system temp dir, removed when dropped. Inputs (scenes, textures) go in
+/// `in/`, outputs in `out/`, so that "nothing left behind" means `out/` holds exactly what it should.
+struct Scratch(PathBuf);
+
+impl Scratch {
+    fn new(name: &str) -> Self {
+        static COUNTER: AtomicUsize = AtomicUsize::new(0);
+        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+        let dir = std::env::temp_dir().join(format!("wrinkle-cli-test-{}-{n}-{name}", std::process::id()));
+        let _ = fs::remove_dir_all(&dir);
+        fs::create_dir_all(dir.join("in")).unwrap();
+        fs::create_dir_all(dir.join("out")).unwrap();
+        Scratch(dir)
+    }
+
+    /// `in/{name}` as a string argument.
+    fn input(&self, name: &str) -> String {
+        path_arg(&self.0.join("in").join(name))
+    }
+
+    /// Writes `in/{name}` and returns its path.
+    fn write_input(&self, name: &str, contents: impl AsRef<[u8]>) -> String {
+        let path = self.input(name);
+        fs::write(&path, contents).unwrap();
+        path
+    }
+
+    /// `out/{name}` as a string argument.
+    fn out(&self, name: &str) -> String {
+        path_arg(&self.0.join("out").join(name))
+    }
+
+    /// The sorted names in `out/`, hidden (temporary) files included.
+    fn out_entries(&self) -> Vec<String> {
+        let mut names: Vec<String> = fs::read_dir(self.0.join("out"))
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = fs::remove_dir_all(&self.0);
+    }
+}
+
+fn path_arg(p: &Path) -> String {
+    p.to_str().expect("temp paths are UTF-8").to_string()
+}
+
+/// What one run of the binary gave back.
+#[derive(Debug)]
+struct Run {
+    code: i32,
+    stdout: String,
+    stderr: String,
+}
+
+/// Runs `wrinkle` with `args` and captures its exit code, stdout and stderr.
+fn wrinkle<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> Run {
+    let out = Command::new(env!("CARGO_BIN_EXE_wrinkle")).args(args).output().expect("run wrinkle");
+    Run {
+        // A run killed by a signal has no code; -1 fails every comparison below.
+        code: out.status.code().unwrap_or(-1),
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+    }
+}
+
+/// Asserts a successful run.
+fn assert_ok(run: &Run) {
+    assert_eq!(run.code, 0, "expected success: {run:#?}");
+}
+
+/// Asserts a failed run: exit `code`, stderr exactly one line `error: ...` that contains every one of
+/// `names`, and nothing at all in the scratch output folder (no output file, no temporary file).
+fn assert_one_error(run: &Run, code: i32, names: &[&str], scratch: &Scratch) {
+    assert_eq!(run.code, code, "exit code: {run:#?}");
+    let lines: Vec<&str> = run.stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "stderr must be one line: {:?}", run.stderr);
+    assert!(lines[0].starts_with("error: "), "stderr must start with `error: `: {:?}", run.stderr);
+    for name in names {
+        assert!(lines[0].contains(name), "stderr must name {name:?}: {:?}", run.stderr);
+    }
+    assert_eq!(scratch.out_entries(), Vec::<String>::new(), "output folder must stay empty");
+}
+
+/// Width, height, bit depth and colour type from a PNG's signature and IHDR chunk.
+fn png_header(path: &str) -> (u32, u32, u8, u8) {
+    let b = fs::read(path).unwrap();
+    assert!(b.len() > 33, "{path}: too short for a PNG");
+    assert_eq!(&b[..8], b"\x89PNG\r\n\x1a\n", "{path}: PNG signature");
+    assert_eq!(&b[12..16], b"IHDR", "{path}: first chunk");
+    let be = |i: usize| u32::from_be_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
+    (be(16), be(20), b[24], b[25])
+}
+
+/// A valid scene around one `[[object]]` whose body (fields and sub-tables) is `object`.
+fn scene_with(object: &str) -> String {
+    format!(
+        "[camera]\neye = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\nfov_y = 40.0\n\n\
+         [[light]]\ntype = \"directional\"\ndirection = [-1.0, -1.0, -1.0]\n\n\
+         [[object]]\n{object}\n"
+    )
+}
+
+/// `wrinkle render SCENE -o out/x.png` at the small size, plus `extra` arguments.
+fn render_scene(s: &Scratch, scene: &str, extra: &[&str]) -> Run {
+    let out = s.out("x.png");
+    let mut args = vec!["render", scene, "-o", &out, "--width", W, "--height", H];
+    args.extend_from_slice(extra);
+    wrinkle(&args)
+}
+
+/// `wrinkle render` of the default scene into out/x.png with `extra` arguments.
+fn render_default(s: &Scratch, extra: &[&str]) -> Run {
+    let out = s.out("x.png");
+    let mut args = vec!["render", "-o", &out];
+    args.extend_from_slice(extra);
+    wrinkle(&args)
+}
+
+/// Writes a bump table made by `wrinkle bumpgen grid` to in/{name}, cut to its first half.
+fn truncated_png(s: &Scratch, name: &str) -> String {
+    let path = s.input(name);
+    assert_ok(&wrinkle(&["bumpgen", "grid", "-o", &path, "--size", "64"]));
+    let bytes = fs::read(&path).unwrap();
+    fs::write(&path, &bytes[..bytes.len() / 2]).unwrap();
+    path
+}
+
+// ---------------------------------------------------------------------------------------------
+// Help and version
+
+#[test]
+fn version_prints_the_version() {
+    let run = wrinkle(&["--version"]);
+    assert_ok(&run);
+    assert_eq!(run.stdout.trim(), format!("wrinkle {}", env!("CARGO_PKG_VERSION")));
+}
+
+#[test]
+fn help_of_every_command_has_examples() {
+    for args in [&["--help"][..], &["render", "--help"], &["bumpgen", "--help"], &["bench", "--help"]] {
+        let run = wrinkle(args);
+        assert_ok(&run);
+        assert!(run.stdout.contains("Examples"), "{args:?}: {}", run.stdout);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Rendering
+
+#[test]
+fn default_scene_renders_a_png_of_the_asked_size() {
+    let s = Scratch::new("default");
+    let run = render_default(&s, &["--width", "96", "--height", "54"]);
+    assert_ok(&run);
+    assert_eq!(png_header(&s.out("x.png")), (96, 54, 8, 2), "8-bit RGB, 96x54");
+    assert_eq!(s.out_entries(), ["x.png"], "no temporary file left");
+}
+
+#[test]
+fn scene_file_with_relative_texture_and_bump_map_renders() {
+    let s = Scratch::new("scenefile");
+    let tex = s.input("tex.png");
+    assert_ok(&wrinkle(&["bumpgen", "bricks", "-o", &tex, "--size", "32"]));
+    let scene = s.write_input(
+        "scene.toml",
+        scene_with(
+            "shape = \"sphere\"\nradius = 1.0\n\n[object.material]\ntexture = \"tex.png\"\n\n\
+             [object.material.bump]\nmap = \"tex.png\"\nscale = 0.01\nrepeat = [4, 2]\n",
+        ),
+    );
+    assert_ok(&render_scene(&s, &scene, &["--spp", "4"]));
+    assert_eq!(png_header(&s.out("x.png")), (64, 48, 8, 2));
+    assert_eq!(s.out_entries(), ["x.png"]);
+}
+
+#[test]
+fn aovs_are_written_beside_the_output() {
+    let s = Scratch::new("aov");
+    assert_ok(&render_default(&s, &["--width", W, "--height", H, "--aov", "normal,uv,depth,id"]));
+    assert_eq!(s.out_entries(), ["x.depth.exr", "x.id.exr", "x.normal.exr", "x.png", "x.uv.exr"]);
+
+    // Each AOV: its channels (alphabetical), and whether each pixel is covered (finite) or not (NaN).
+    let mut coverage: Vec<Vec<bool>> = Vec::new();
+    let mut read = |name: &str, want: &[&str]| -> Vec<(String, Vec<f32>)> {
+        let path = s.out(&format!("x.{name}.exr"));
+        assert!(fs::metadata(&path).unwrap().len() > 0, "{path} is empty");
+        let (w, h, channels) = read_exr_channels(Path::new(&path)).unwrap();
+        assert_eq!((w, h), (64, 48), "{name}");
+        let names: Vec<&str> = channels.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(names, want, "{name} channels");
+        for (c, samples) in &channels {
+            assert_eq!(samples.len(), 64 * 48, "{name}.{c}");
+            // The default scene's top-left and top-right corners show the background.
+            for corner in [0, 63] {
+                assert!(samples[corner].is_nan(), "{name}.{c} at corner pixel {corner} = {}", samples[corner]);
+            }
+            coverage.push(samples.iter().map(|v| v.is_finite()).collect());
+            // No infinities: a sample is either NaN (background) or finite (covered).
+            assert!(samples.iter().all(|v| v.is_nan() || v.is_finite()), "{name}.{c} holds an infinity");
+        }
+        channels
+    };
+    let normal = read("normal", &["X", "Y", "Z"]);
+    let uv = read("uv", &["U", "V"]);
+    let depth = read("depth", &["Z"]);
+    let id = read("id", &["id"]);
+
+    // Every AOV covers the same pixels, and the three objects of the default scene are all seen.
+    let covered = coverage[0].clone();
+    assert!(coverage.iter().all(|c| *c == covered), "AOVs disagree on which pixels are covered");
+    let n = covered.iter().filter(|&&c| c).count();
+    assert!(n > 64 * 48 / 10 && n < 64 * 48, "{n} covered pixels");
+    let ids: BTreeSet<u32> = id[0].1.iter().filter(|v| v.is_finite()).map(|&v| v as u32).collect();
+    assert_eq!(ids, BTreeSet::from([0, 1, 2]), "object ids seen");
+    for p in (0..64 * 48).filter(|&p| covered[p]) {
+        let len = (normal[0].1[p].powi(2) + normal[1].1[p].powi(2) + normal[2].1[p].powi(2)).sqrt();
+        assert!((len - 1.0).abs() < 1e-3, "pixel {p}: |normal| = {len}");
+        assert!(depth[0].1[p] > 0.0, "pixel {p}: depth {}", depth[0].1[p]);
+        for (c, samples) in &uv {
+            assert!((-1e-4..=1.0 + 1e-4).contains(&samples[p]), "pixel {p}: {c} = {}", samples[p]);
+        }
+        assert_eq!(id[0].1[p].fract(), 0.0, "pixel {p}: id {}", id[0].1[p]);
+    }
+}
+
+#[test]
+fn exr_output_is_linear_rgb() {
+    let s = Scratch::new("exr");
+    let out = s.out("x.exr");
+    assert_ok(&wrinkle(&["render", "-o", &out, "--width", W, "--height", H]));
+    assert_eq!(s.out_entries(), ["x.exr"]);
+    let (w, h, channels) = read_exr_channels(Path::new(&out)).unwrap();
+    assert_eq!((w, h), (64, 48));
+    let names: Vec<&str> = channels.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(names, ["B", "G", "R"]);
+    for (c, samples) in &channels {
+        assert!(samples.iter().all(|v| v.is_finite() && *v >= 0.0), "channel {c}");
+        // The background is a constant, the objects are not: the picture is not flat.
+        assert!(samples.iter().any(|v| v != &samples[0]), "channel {c} is constant");
+    }
+}
+
+#[test]
+fn turntable_writes_numbered_frames_that_differ() {
+    let s = Scratch::new("turntable");
+    assert_ok(&render_default(&s, &["--width", W, "--height", H, "--frames", "3", "--turntable"]));
+    let names = ["x_0000.png", "x_0001.png", "x_0002.png"];
+    assert_eq!(s.out_entries(), names);
+    let frames: Vec<Vec<u8>> = names
+        .iter()
+        .map(|n| {
+            assert_eq!(png_header(&s.out(n)), (64, 48, 8, 2), "{n}");
+            fs::read(s.out(n)).unwrap()
+        })
+        .collect();
+    assert_ne!(frames[0], frames[1]);
+    assert_ne!(frames[1], frames[2]);
+    assert_ne!(frames[0], frames[2]);
+}
+
+// ---------------------------------------------------------------------------------------------
+// bumpgen and bench
+
+#[test]
+fn bumpgen_writes_16_bit_grey_pngs() {
+    let s = Scratch::new("bumpgen");
+    for (kind, width) in [("grid", 32), ("text", 32 * "WRINKLE".len() as u32), ("rivets", 32), ("bricks", 32)] {
+        let out = s.out(&format!("{kind}.png"));
+        let run = wrinkle(&["bumpgen", kind, "-o", &out, "--size", "32"]);
+        assert_ok(&run);
+        assert!(run.stdout.contains("16-bit"), "{kind}: {}", run.stdout);
+        assert_eq!(png_header(&out), (width, 32, 16, 0), "{kind}: 16-bit grey");
+    }
+    assert_eq!(s.out_entries(), ["bricks.png", "grid.png", "rivets.png", "text.png"]);
+}
+
+#[test]
+fn bench_prints_one_line_with_the_median() {
+    let run = wrinkle(&["bench", "--width", W, "--height", H, "--frames", "2"]);
+    assert_ok(&run);
+    assert_eq!(run.stdout.lines().count(), 1, "{}", run.stdout);
+    assert!(run.stdout.contains("median_ms="), "{}", run.stdout);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Bad input: one line on stderr, the right exit code, nothing in the output folder
+
+#[test]
+fn missing_scene_file() {
+    let s = Scratch::new("noscene");
+    let scene = s.input("nope.toml");
+    assert_one_error(&render_scene(&s, &scene, &[]), 2, &["nope.toml", "no such file"], &s);
+}
+
+#[test]
+fn malformed_toml() {
+    let s = Scratch::new("malformed");
+    let cases = [
+        "[camera\neye = [0, 0, 4]\n",
+        "[camera]\neye = [0, 0, 4\n",
+        "[camera]\neye = \"unterminated\n",
+        "[camera]\neye = [0, 0, 4]\neye = [0, 0, 5]\n",
+        "[camera]\neye [0, 0, 4]\n",
+    ];
+    for (i, text) in cases.iter().enumerate() {
+        let scene = s.write_input(&format!("bad{i}.toml"), text);
+        assert_one_error(&render_scene(&s, &scene, &[]), 2, &[&format!("bad{i}.toml"), "malformed TOML"], &s);
+    }
+}
+
+#[test]
+fn unknown_shape() {
+    let s = Scratch::new("shape");
+    let scene = s.write_input("scene.toml", scene_with("shape = \"cone\""));
+    assert_one_error(&render_scene(&s, &scene, &[]), 2, &["objects[0].shape", "\"cone\""], &s);
+}
+
+#[test]
+fn negative_radius() {
+    let s = Scratch::new("radius");
+    let scene = s.write_input("scene.toml", scene_with("shape = \"sphere\"\nradius = -1.0"));
+    assert_one_error(&render_scene(&s, &scene, &[]), 2, &["objects[0].radius", "-1"], &s);
+}
+
+#[test]
+fn nan_in_a_transform() {
+    let s = Scratch::new("nan");
+    let scene =
+        s.write_input("scene.toml", scene_with("shape = \"sphere\"\ntransform = { translate = [nan, 0, 0] }"));
+    assert_one_error(&render_scene(&s, &scene, &[]), 2, &["objects[0].transform.translate[0]", "NaN"], &s);
+}
+
+#[test]
+fn string_where_a_number_is_expected() {
+    let s = Scratch::new("string");
+    let scene = s.write_input(
+        "scene.toml",
+        scene_with("shape = \"sphere\"\n\n[object.material.bump]\ngenerator = { kind = \"grid\" }\nscale = \"big\""),
+    );
+    let run = render_scene(&s, &scene, &[]);
+    assert_one_error(&run, 2, &[], &s);
+    assert_eq!(run.stderr, "error: objects[0].material.bump.scale: expected a number, got \"big\"\n");
+}
+
+#[test]
+fn unknown_field() {
+    let s = Scratch::new("typo");
+    let scene = s.write_input("scene.toml", scene_with("shape = \"sphere\"\nraduis = 1.0"));
+    assert_one_error(&render_scene(&s, &scene, &[]), 2, &["objects[0].raduis", "unknown field"], &s);
+}
+
+#[test]
+fn missing_texture_file() {
+    let s = Scratch::new("notex");
+    let scene =
+        s.write_input("scene.toml", scene_with("shape = \"sphere\"\n\n[object.material]\ntexture = \"nope.png\""));
+    assert_one_error(&render_scene(&s, &scene, &[]), 2, &["nope.png", "no such file"], &s);
+}
+
+#[test]
+fn corrupt_texture_and_bump_map() {
+    let s = Scratch::new("corrupt");
+    truncated_png(&s, "cut.png");
+    for material in [
+        "[object.material]\ntexture = \"cut.png\"",
+        "[object.material]\ntexture = { path = \"cut.png\", repeat = [2, 2] }",
+        "[object.material.bump]\nmap = \"cut.png\"",
+    ] {
+        let scene = s.write_input("scene.toml", scene_with(&format!("shape = \"sphere\"\n\n{material}")));
+        assert_one_error(&render_scene(&s, &scene, &[]), 2, &["cut.png", "PNG"], &s);
+    }
+}
+
+#[test]
+fn width_zero() {
+    let s = Scratch::new("w0");
+    assert_one_error(&render_default(&s, &["--width", "0", "--height", H]), 2, &["--width", "0"], &s);
+}
+
+#[test]
+fn width_a_million() {
+    let s = Scratch::new("w1e6");
+    assert_one_error(&render_default(&s, &["--width", "1000000", "--height", H]), 2, &["--width", "1000000"], &s);
+}
+
+#[test]
+fn spp_three() {
+    let s = Scratch::new("spp");
+    assert_one_error(&render_default(&s, &["--width", W, "--height", H, "--spp", "3"]), 2, &["--spp", "3"], &s);
+}
+
+#[test]
+fn unknown_aov() {
+    let s = Scratch::new("aovbad");
+    let run = render_default(&s, &["--width", W, "--height", H, "--aov", "normal,bogus"]);
+    assert_one_error(&run, 2, &["--aov", "bogus"], &s);
+}
+
+#[test]
+fn unknown_output_extension() {
+    let s = Scratch::new("jpg");
+    let out = s.out("x.jpg");
+    assert_one_error(&wrinkle(&["render", "-o", &out, "--width", W, "--height", H]), 2, &["x.jpg"], &s);
+}
+
+#[test]
+fn frames_without_turntable() {
+    let s = Scratch::new("frames");
+    let run = render_default(&s, &["--width", W, "--height", H, "--frames", "2"]);
+    assert_one_error(&run, 2, &["--frames", "--turntable"], &s);
+}
+
+#[test]
+fn zero_threads() {
+    let s = Scratch::new("threads");
+    assert_one_error(&render_default(&s, &["--width", W, "--height", H, "--threads", "0"]), 2, &["--threads"], &s);
+}
+
+#[test]
+fn output_into_a_missing_directory_is_a_job_failure() {
+    let s = Scratch::new("nodir");
+    let out = s.out("nope/x.png");
+    let run = wrinkle(&["render", "-o", &out, "--width", W, "--height", H, "--aov", "depth"]);
+    assert_one_error(&run, 1, &["nope", "x.png", "does not exist"], &s);
+    let run = wrinkle(&["bumpgen", "grid", "-o", &out, "--size", "32"]);
+    assert_one_error(&run, 1, &["nope", "x.png", "does not exist"], &s);
+}
+
+#[test]
+fn output_onto_a_directory_is_a_job_failure_and_leaves_no_temp_file() {
+    let s = Scratch::new("ontodir");
+    // The temporary file is created and written; renaming it onto a folder fails.
+    fs::create_dir(s.out("x.png")).unwrap();
+    let run = render_default(&s, &["--width", W, "--height", H]);
+    assert_eq!(run.code, 1, "{run:#?}");
+    assert_eq!(run.stderr.lines().count(), 1, "{:?}", run.stderr);
+    assert!(run.stderr.starts_with("error: ") && run.stderr.contains("x.png"), "{:?}", run.stderr);
+    assert_eq!(s.out_entries(), ["x.png"], "only the folder that was there");
+    assert!(Path::new(&s.out("x.png")).is_dir());
+}
+
+#[test]
+fn failing_aov_leaves_no_main_output() {
+    let s = Scratch::new("aovfail");
+    // x.normal.exr cannot be written (a folder of that name is in the way); x.png must not stay.
+    fs::create_dir(s.out("x.normal.exr")).unwrap();
+    let run = render_default(&s, &["--width", W, "--height", H, "--aov", "normal"]);
+    assert_eq!(run.code, 1, "{run:#?}");
+    assert_eq!(run.stderr.lines().count(), 1, "{:?}", run.stderr);
+    assert!(run.stderr.starts_with("error: ") && run.stderr.contains("x.normal.exr"), "{:?}", run.stderr);
+    assert_eq!(s.out_entries(), ["x.normal.exr"], "no output file may be left behind");
+}
+
+#[test]
+fn bumpgen_bad_options() {
+    let s = Scratch::new("bumpgenbad");
+    let out = s.out("g.png");
+    assert_one_error(&wrinkle(&["bumpgen", "grid", "-o", &out, "--size", "0"]), 2, &["--size"], &s);
+    assert_one_error(&wrinkle(&["bumpgen", "rivets", "-o", &out, "--size", "32", "--count", "5"]), 2, &["--count"], &s);
+    assert_one_error(&wrinkle(&["bumpgen", "bricks", "-o", &out, "--size", "32", "--rows", "3"]), 2, &["--rows"], &s);
+}
+
+#[test]
+fn unparsable_argument_is_one_line() {
+    let s = Scratch::new("clap");
+    assert_one_error(&render_default(&s, &["--width", "abc"]), 2, &["--width", "abc"], &s);
+}
