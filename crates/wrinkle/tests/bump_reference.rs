@@ -99,7 +99,8 @@ fn render_flat_case(c: &FlatCase, dir: &Path, w: usize, h: usize) -> FlatResult 
     let (we1, we2) = (c.transform.point(p10) - w00, c.transform.point(p01) - w00);
     let n_world = we1.cross(we2);
 
-    let mut res = FlatResult { covered: 0, max_angle: MaxErr::default(), max_tilt: 0.0, coverage_mismatches: 0, worst_unit: 0.0 };
+    let mut res =
+        FlatResult { covered: 0, max_angle: MaxErr::default(), max_tilt: 0.0, coverage_mismatches: 0, worst_unit: 0.0 };
     for j in 0..h {
         for i in 0..w {
             let got = normals[j * w + i];
@@ -128,7 +129,11 @@ fn render_flat_case(c: &FlatCase, dir: &Path, w: usize, h: usize) -> FlatResult 
                 Expected::UnitTilt => {
                     let downhill = fu * n_obj.cross(e2) - fv * n_obj.cross(e1);
                     let a = fu.hypot(fv);
-                    if downhill.length() > 0.0 { nh + a * downhill.normalize() } else { nh }
+                    if downhill.length() > 0.0 {
+                        nh + a * downhill.normalize()
+                    } else {
+                        nh
+                    }
                 }
             };
             let mut want = c.transform.direction(want_obj);
@@ -139,7 +144,9 @@ fn render_flat_case(c: &FlatCase, dir: &Path, w: usize, h: usize) -> FlatResult 
             let got = DVec3::new(got[0] as f64, got[1] as f64, got[2] as f64);
             res.worst_unit = res.worst_unit.max((got.length() - 1.0).abs());
             res.max_tilt = res.max_tilt.max(angle_deg(want, n_world * n_world.dot(-d).signum()));
-            res.max_angle.add(angle_deg(got, want), || format!("pixel ({i},{j}) uv ({u:.4},{v:.4}) got {got} want {}", want.normalize()));
+            res.max_angle.add(angle_deg(got, want), || {
+                format!("pixel ({i},{j}) uv ({u:.4},{v:.4}) got {got} want {}", want.normalize())
+            });
         }
     }
     res
@@ -292,7 +299,12 @@ fn sphere_blinn_error_shrinks_with_amplitude_and_full_formula_is_exact() {
             full.max
         );
         assert!(full.max < 1e-3, "A = {a}: full formula off by {} deg at {}", full.max, full.at);
-        assert!(blinn.max > 5.0 * full.max, "A = {a}: Blinn's error {} is not measurable above {}", blinn.max, full.max);
+        assert!(
+            blinn.max > 5.0 * full.max,
+            "A = {a}: Blinn's error {} is not measurable above {}",
+            blinn.max,
+            full.max
+        );
         rows.push((a, tilt, blinn.max));
     }
     for pair in rows.windows(2) {
@@ -314,7 +326,8 @@ fn sphere_blinn_error_shrinks_with_amplitude_and_full_formula_is_exact() {
 fn sphere_full_formula_through_a_table_is_within_the_central_difference_error() {
     let (tw, th) = (512usize, 256usize);
     let t_fn = |s: f64, t: f64| 0.5 + 0.5 * (4.0 * TAU * s).sin() * (2.0 * TAU * t).sin();
-    let img = Image::from_fn(tw, th, |x, y| t_fn((x as f64 + 0.5) / tw as f64, 1.0 - (y as f64 + 0.5) / th as f64) as f32);
+    let img =
+        Image::from_fn(tw, th, |x, y| t_fn((x as f64 + 0.5) / tw as f64, 1.0 - (y as f64 + 0.5) / th as f64) as f32);
     let table = BumpTable::new(&img);
     let sphere = Surface::Sphere { radius: 1.0 };
     let (es, et) = (1.0 / tw as f64, 1.0 / th as f64);
@@ -385,9 +398,12 @@ fn scaling_by_two_halves_blinns_tilt_and_keeps_the_invariant_one() {
                 let (u, v) = ((i as f32 + 0.4) / 9.0, j as f32 / 8.0);
                 for &(fu, fv, f) in &perts {
                     let p = Perturbation { f, fu, fv };
-                    let (b1, b2) = (tan_theta(one, u, v, p, BumpFormula::Blinn), tan_theta(two, u, v, p, BumpFormula::Blinn));
-                    let (i1, i2) =
-                        (tan_theta(one, u, v, p, BumpFormula::Invariant), tan_theta(two, u, v, p, BumpFormula::Invariant));
+                    let (b1, b2) =
+                        (tan_theta(one, u, v, p, BumpFormula::Blinn), tan_theta(two, u, v, p, BumpFormula::Blinn));
+                    let (i1, i2) = (
+                        tan_theta(one, u, v, p, BumpFormula::Invariant),
+                        tan_theta(two, u, v, p, BumpFormula::Invariant),
+                    );
                     let at = format!("{name} ({u},{v}) Fu {fu} Fv {fv}");
                     worst_blinn = worst_blinn.max((b2 / b1 / 0.5 - 1.0).abs());
                     worst_inv = worst_inv.max((i2 / i1 - 1.0).abs());
@@ -399,7 +415,8 @@ fn scaling_by_two_halves_blinns_tilt_and_keeps_the_invariant_one() {
                         let pos = |u: f64, v: f64| match s {
                             Surface::Sphere { radius } => sphere_point(*radius as f64, u, v),
                             _ => {
-                                let c = if let Surface::Patch { corners } = s { corners.map(v64) } else { unreachable!() };
+                                let c =
+                                    if let Surface::Patch { corners } = s { corners.map(v64) } else { unreachable!() };
                                 let (bottom, top) = (c[0].lerp(c[1], u), c[3].lerp(c[2], u));
                                 bottom.lerp(top, v)
                             }
@@ -447,7 +464,8 @@ fn scaling_through_the_scene() {
     let n = 128;
     let eye = [0.5, 0.3, 4.0];
     let scene = |k: f64, transform_scale: f64, options: &str| {
-        let corners = [[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]].map(|c| arr(c.map(|x| x * k)));
+        let corners =
+            [[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]].map(|c| arr(c.map(|x| x * k)));
         let eye_k = eye.map(|x| x * k * transform_scale);
         format!(
             "{}[[object]]\nshape = \"patch\"\ncorners = [{}]\ntransform = {{ scale = {transform_scale:?} }}\n\n\
@@ -465,7 +483,9 @@ fn scaling_through_the_scene() {
                 worst = worst.max((tb / ta / want - 1.0).abs());
             }
         }
-        println!("scene scale [{label}]: tan ratio {want} within {worst:.2e} (relative; bound 1e-2) over {count} pixels");
+        println!(
+            "scene scale [{label}]: tan ratio {want} within {worst:.2e} (relative; bound 1e-2) over {count} pixels"
+        );
         assert!(count > n * n / 4, "{label}: only {count} pixels with a visible tilt");
         assert!(worst < 0.01, "{label}: tan ratio off {want} by {worst} (relative)");
     };

@@ -74,7 +74,11 @@ fn oblique_plane_uv_is_perspective_correct() {
             };
             let (b, k) = {
                 let b0 = bary(&tri_screen[0]);
-                if b0.iter().all(|&x| x >= -1e-9) { (b0, 0) } else { (bary(&tri_screen[1]), 1) }
+                if b0.iter().all(|&x| x >= -1e-9) {
+                    (b0, 0)
+                } else {
+                    (bary(&tri_screen[1]), 1)
+                }
             };
             let affine = [0, 1].map(|c| (0..3).map(|m| b[m] * tri_uv[k][m][c]).sum::<f64>());
             affine_err = affine_err.max((affine[0] - u).abs().max((affine[1] - v).abs()));
@@ -132,7 +136,8 @@ fn convex_hull(mut pts: Vec<[f64; 2]>) -> Vec<[f64; 2]> {
     let mut hull: Vec<[f64; 2]> = Vec::new();
     for pass in 0..2 {
         let start = hull.len();
-        let ordered: Box<dyn Iterator<Item = &[f64; 2]>> = if pass == 0 { Box::new(pts.iter()) } else { Box::new(pts.iter().rev()) };
+        let ordered: Box<dyn Iterator<Item = &[f64; 2]>> =
+            if pass == 0 { Box::new(pts.iter()) } else { Box::new(pts.iter().rev()) };
         for &p in ordered {
             while hull.len() >= start + 2 && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0 {
                 hull.pop();
@@ -274,7 +279,14 @@ fn tessellated_sphere_is_watertight() {
         let up = [0.0, 1.0, 0.0];
         let (camera, reference) = match view.fov {
             Some(fov) => (
-                Camera::new(f3(view.eye), f3(view.look_at), Vec3::Y, Projection::Perspective { fov_y: fov as f32 }, w as u32, h as u32),
+                Camera::new(
+                    f3(view.eye),
+                    f3(view.look_at),
+                    Vec3::Y,
+                    Projection::Perspective { fov_y: fov as f32 },
+                    w as u32,
+                    h as u32,
+                ),
                 RefCamera::perspective(view.eye, view.look_at, up, fov, w, h),
             ),
             None => (
@@ -290,7 +302,8 @@ fn tessellated_sphere_is_watertight() {
             ),
         };
         let count = coverage(&camera, &mesh, to_world, true, view.spp);
-        let hull = convex_hull(mesh.positions.iter().map(|&p| reference.project(d3(to_world.transform_point3(p)))).collect());
+        let hull =
+            convex_hull(mesh.positions.iter().map(|&p| reference.project(d3(to_world.transform_point3(p)))).collect());
         let (inside, max, holes, spill) = check_against_outline(&count, &sample_positions(w, h, view.spp), &hull);
         println!(
             "sphere [{}]: {inside} samples inside the outline, max coverage {max} (bound 1), {holes} inside not covered once, \
@@ -338,26 +351,53 @@ fn fill_rule_with_vertices_on_samples() {
         let mesh = grid(&patch, nu, nv);
         for eye in [[0.0, 0.0, 10.0], [0.0, 0.0, -10.0]] {
             for spp in [1, 16] {
-                let camera = Camera::new(f3(eye), Vec3::ZERO, Vec3::Y, Projection::Orthographic { height: h as f32 }, w as u32, h as u32);
+                let camera = Camera::new(
+                    f3(eye),
+                    Vec3::ZERO,
+                    Vec3::Y,
+                    Projection::Orthographic { height: h as f32 },
+                    w as u32,
+                    h as u32,
+                );
                 let reference = RefCamera::orthographic(eye, [0.0; 3], [0.0, 1.0, 0.0], h as f64, w, h);
                 let count = coverage(&camera, &mesh, Affine3A::IDENTITY, false, spp);
                 let screen = corners.map(|c| reference.project(DVec3::from(c)));
-                let (x0, x1) = (screen.iter().map(|p| p[0]).fold(f64::INFINITY, f64::min), screen.iter().map(|p| p[0]).fold(f64::NEG_INFINITY, f64::max));
-                let (y0, y1) = (screen.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min), screen.iter().map(|p| p[1]).fold(f64::NEG_INFINITY, f64::max));
+                let (x0, x1) = (
+                    screen.iter().map(|p| p[0]).fold(f64::INFINITY, f64::min),
+                    screen.iter().map(|p| p[0]).fold(f64::NEG_INFINITY, f64::max),
+                );
+                let (y0, y1) = (
+                    screen.iter().map(|p| p[1]).fold(f64::INFINITY, f64::min),
+                    screen.iter().map(|p| p[1]).fold(f64::NEG_INFINITY, f64::max),
+                );
                 assert_eq!((x0.fract(), y0.fract()), (0.5, 0.5), "corners must project to pixel centres");
                 let (mut inside, mut bad) = (0, Vec::new());
                 for (&c, p) in count.iter().zip(sample_positions(w, h, spp)) {
                     let strictly_inside = p[0] > x0 && p[0] < x1 && p[1] > y0 && p[1] < y1;
                     let strictly_outside = p[0] < x0 || p[0] > x1 || p[1] < y0 || p[1] > y1;
                     inside += usize::from(strictly_inside);
-                    let ok = if strictly_inside { c == 1 } else if strictly_outside { c == 0 } else { c <= 1 };
+                    let ok = if strictly_inside {
+                        c == 1
+                    } else if strictly_outside {
+                        c == 0
+                    } else {
+                        c <= 1
+                    };
                     if !ok {
                         bad.push((p, c));
                     }
                 }
-                println!("fill rule: grid {nu} x {nv}, eye z {}, spp {spp}: {inside} inside samples, {} wrong", eye[2], bad.len());
+                println!(
+                    "fill rule: grid {nu} x {nv}, eye z {}, spp {spp}: {inside} inside samples, {} wrong",
+                    eye[2],
+                    bad.len()
+                );
                 assert!(inside > 1000);
-                assert!(bad.is_empty(), "grid {nu} x {nv}, eye {eye:?}, spp {spp}: (sample, count) {:?}", &bad[..bad.len().min(10)]);
+                assert!(
+                    bad.is_empty(),
+                    "grid {nu} x {nv}, eye {eye:?}, spp {spp}: (sample, count) {:?}",
+                    &bad[..bad.len().min(10)]
+                );
             }
         }
     }
@@ -375,7 +415,8 @@ fn open_quad_from_both_sides() {
     assert_eq!(mesh.triangles.len(), 2);
     for eye in [[0.4, -0.3, 3.0], [-0.5, 0.6, -2.8]] {
         for spp in [1, 16] {
-            let camera = Camera::new(f3(eye), Vec3::ZERO, Vec3::Y, Projection::Perspective { fov_y: 50.0 }, w as u32, h as u32);
+            let camera =
+                Camera::new(f3(eye), Vec3::ZERO, Vec3::Y, Projection::Perspective { fov_y: 50.0 }, w as u32, h as u32);
             let reference = RefCamera::perspective(eye, [0.0; 3], [0.0, 1.0, 0.0], 50.0, w, h);
             let count = coverage(&camera, &mesh, Affine3A::IDENTITY, false, spp);
             let hull = convex_hull(corners.iter().map(|&c| reference.project(DVec3::from(c))).collect());
@@ -398,7 +439,8 @@ fn clipped_floor_is_watertight() {
     let corners = [[-30.0, -1.0, 30.0], [30.0, -1.0, 30.0], [30.0, -1.0, -30.0], [-30.0, -1.0, -30.0]];
     let mesh = grid(&Surface::Patch { corners: corners.map(f3) }, 9, 7);
     let (eye, look_at) = ([0.3, 0.0, 0.2], [0.0, -0.45, -1.0]);
-    let camera = Camera::new(f3(eye), f3(look_at), Vec3::Y, Projection::Perspective { fov_y: 70.0 }, w as u32, h as u32);
+    let camera =
+        Camera::new(f3(eye), f3(look_at), Vec3::Y, Projection::Perspective { fov_y: 70.0 }, w as u32, h as u32);
     let reference = RefCamera::perspective(eye, look_at, [0.0, 1.0, 0.0], 70.0, w, h);
     let spp = 4;
     let count = coverage(&camera, &mesh, Affine3A::IDENTITY, false, spp);
@@ -546,7 +588,8 @@ fn depth_id_and_background_aovs() {
         } else {
             let p = sc.shaded_sphere_point(id, k);
             let want = (p - sc.cam.eye).length();
-            sphere_consistency.add((depth - want).abs() / want, || format!("pixel ({i},{j}) object {id}: {depth} vs {want:.6}"));
+            sphere_consistency
+                .add((depth - want).abs() / want, || format!("pixel ({i},{j}) object {id}: {depth} vs {want:.6}"));
         }
     });
     println!(
@@ -556,7 +599,11 @@ fn depth_id_and_background_aovs() {
     );
     assert!(seen.iter().all(|&n| n > 500) && background > 500, "the scene does not show every object and background");
     assert!(patch_depth.max < 1e-4, "patch depth off: {}", patch_depth.at);
-    assert!(sphere_consistency.max < 1e-5, "sphere depth is not the distance to the point at its uv: {}", sphere_consistency.at);
+    assert!(
+        sphere_consistency.max < 1e-5,
+        "sphere depth is not the distance to the point at its uv: {}",
+        sphere_consistency.at
+    );
 }
 
 /// FINDING (fails on the current tree; see the report): the depth AOV on a sphere against the analytic
@@ -581,7 +628,9 @@ fn sphere_depth_matches_the_ray_intersection() {
         if cos > 0.5 {
             offset = offset.max(off);
             let depth = depths[k] as f64;
-            depth_err.add((depth - t).abs() / t, || format!("pixel ({i},{j}) object {id}: depth {depth} vs {t:.6}, cos {cos:.3}"));
+            depth_err.add((depth - t).abs() / t, || {
+                format!("pixel ({i},{j}) object {id}: depth {depth} vs {t:.6}, cos {cos:.3}")
+            });
         }
     });
     println!(

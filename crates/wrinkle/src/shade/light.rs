@@ -65,7 +65,7 @@ mod tests {
         // At 60 degrees N.L = 0.5; the eye along the normal puts H at 30 degrees.
         let n = Vec3::new(3f32.sqrt() / 2.0, 0.0, 0.5);
         let c = light.shade(Vec3::ZERO, n, n, Vec3::ONE, &Phong::new(1.0, 2.0));
-        let ndoth = (15f32.to_radians()).cos();
+        let ndoth = (30f32.to_radians()).cos();
         assert!((c.x - 2.0 * (0.5 + ndoth * ndoth)).abs() < 1e-5);
         // From behind: nothing.
         assert_eq!(light.shade(Vec3::ZERO, -Vec3::Z, Vec3::Z, Vec3::ONE, &Phong::new(1.0, 2.0)), Vec3::ZERO);
