@@ -211,7 +211,7 @@ fn flat_patch_normals_match_the_displaced_surface() {
             corners: square,
             transform: RefTransform::IDENTITY,
             eye: [0.7, -0.9, 3.3],
-            scale: 0.06,
+            scale: 0.05,
             repeat: [2.0, 1.0],
             options: "invariant = true",
             expected: Expected::UnitTilt,
