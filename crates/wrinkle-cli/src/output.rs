@@ -34,15 +34,52 @@ pub fn encode_srgb8(frame: &Frame) -> Vec<u8> {
     out
 }
 
-pub fn write_frame(path: &Path, frame: &Frame) -> Result<()> {
-    match format_of(path)? {
-        Format::Png => io::write_png_rgb8(path, frame.width, frame.height, &encode_srgb8(frame)),
-        Format::Exr => {
-            let ch = |k: usize| frame.color.iter().map(|c| c[k]).collect::<Vec<f32>>();
-            let (r, g, b) = (ch(0), ch(1), ch(2));
-            io::write_exr(path, frame.width, frame.height, &[("R", &r), ("G", &g), ("B", &b)])
+/// One file to write: its final path and the writer that produces it at a given path.
+type Output<'a> = (PathBuf, Box<dyn Fn(&Path) -> Result<()> + 'a>);
+
+/// The frame as PNG or EXR (by the extension of `out`), and every AOV it holds as `OUT.<name>.exr`.
+fn outputs<'a>(out: &Path, frame: &'a Frame) -> Result<Vec<Output<'a>>> {
+    let (w, h) = (frame.width, frame.height);
+    let mut list: Vec<Output<'a>> = Vec::new();
+    match format_of(out)? {
+        Format::Png => {
+            list.push((out.to_path_buf(), Box::new(move |p| io::write_png_rgb8(p, w, h, &encode_srgb8(frame)))))
         }
+        Format::Exr => list.push((
+            out.to_path_buf(),
+            Box::new(move |p| {
+                let (r, g, b) = (channel(&frame.color, 0), channel(&frame.color, 1), channel(&frame.color, 2));
+                io::write_exr(p, w, h, &[("R", &r), ("G", &g), ("B", &b)])
+            }),
+        )),
     }
+    if let Some(n) = &frame.normal {
+        list.push((
+            aov_path(out, "normal"),
+            Box::new(move |p| {
+                let (x, y, z) = (channel(n, 0), channel(n, 1), channel(n, 2));
+                io::write_exr(p, w, h, &[("X", &x), ("Y", &y), ("Z", &z)])
+            }),
+        ));
+    }
+    if let Some(uv) = &frame.uv {
+        list.push((
+            aov_path(out, "uv"),
+            Box::new(move |p| io::write_exr(p, w, h, &[("U", &channel(uv, 0)), ("V", &channel(uv, 1))])),
+        ));
+    }
+    if let Some(d) = &frame.depth {
+        list.push((aov_path(out, "depth"), Box::new(move |p| io::write_exr(p, w, h, &[("Z", d)]))));
+    }
+    if let Some(id) = &frame.id {
+        list.push((aov_path(out, "id"), Box::new(move |p| io::write_exr(p, w, h, &[("id", id)]))));
+    }
+    Ok(list)
+}
+
+/// One channel of an interleaved buffer.
+fn channel<const N: usize>(pixels: &[[f32; N]], k: usize) -> Vec<f32> {
+    pixels.iter().map(|c| c[k]).collect()
 }
 
 /// `OUT.png` -> `OUT.{name}.exr`.
@@ -50,24 +87,58 @@ pub fn aov_path(out: &Path, name: &str) -> PathBuf {
     out.with_extension(format!("{name}.exr"))
 }
 
-/// Writes every AOV the frame holds beside `out`.
-pub fn write_aovs(out: &Path, frame: &Frame) -> Result<()> {
-    let (w, h) = (frame.width, frame.height);
-    let split = |v: &[[f32; 3]], k: usize| v.iter().map(|c| c[k]).collect::<Vec<f32>>();
-    if let Some(n) = &frame.normal {
-        let (x, y, z) = (split(n, 0), split(n, 1), split(n, 2));
-        io::write_exr(&aov_path(out, "normal"), w, h, &[("X", &x), ("Y", &y), ("Z", &z)])?;
+/// A hidden name beside `path` where it is written before it is renamed into place.
+fn staging_path(path: &Path) -> PathBuf {
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    path.with_file_name(format!(".{name}.{}.staged", std::process::id()))
+}
+
+/// Writes the frame and its AOVs as one unit: every file is written under a staging name first and renamed
+/// into place only when all of them are complete, so a failure leaves none of them behind.
+pub fn write_outputs(out: &Path, frame: &Frame) -> Result<()> {
+    let list = outputs(out, frame)?;
+    let mut staged: Vec<(PathBuf, &Path)> = Vec::with_capacity(list.len());
+    let mut result = Ok(());
+    for (path, write) in &list {
+        let tmp = staging_path(path);
+        match write(&tmp) {
+            Ok(()) => staged.push((tmp, path)),
+            Err(e) => {
+                result = Err(with_path(e, path));
+                break;
+            }
+        }
     }
-    if let Some(uv) = &frame.uv {
-        let u: Vec<f32> = uv.iter().map(|c| c[0]).collect();
-        let v: Vec<f32> = uv.iter().map(|c| c[1]).collect();
-        io::write_exr(&aov_path(out, "uv"), w, h, &[("U", &u), ("V", &v)])?;
+    if result.is_ok() {
+        // A folder in the way is the one common reason a rename fails: find it before renaming anything.
+        if let Some((_, path)) = staged.iter().find(|(_, p)| p.is_dir()) {
+            result = Err(Error::write(*path, "a folder of that name is in the way"));
+        }
     }
-    if let Some(d) = &frame.depth {
-        io::write_exr(&aov_path(out, "depth"), w, h, &[("Z", d)])?;
+    let mut placed = 0;
+    if result.is_ok() {
+        for (tmp, path) in &staged {
+            if let Err(e) = std::fs::rename(tmp, path) {
+                result = Err(Error::write(*path, e));
+                break;
+            }
+            placed += 1;
+        }
     }
-    if let Some(id) = &frame.id {
-        io::write_exr(&aov_path(out, "id"), w, h, &[("id", id)])?;
+    if result.is_err() {
+        // Nothing of this frame stays: neither the staged files nor those already renamed into place.
+        for (k, (tmp, path)) in staged.iter().enumerate() {
+            let _ = std::fs::remove_file(if k < placed { *path } else { tmp.as_path() });
+        }
     }
-    Ok(())
+    result
+}
+
+/// The error of writing a staged file, told of the file the user asked for.
+fn with_path(e: Error, path: &Path) -> Error {
+    match e {
+        Error::Write { message, .. } => Error::Write { path: path.to_path_buf(), message },
+        Error::Invalid(m) => Error::Invalid(m),
+        other => Error::write(path, other),
+    }
 }

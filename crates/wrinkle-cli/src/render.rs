@@ -1,6 +1,6 @@
 //! `wrinkle render`: one frame, or a turntable animation of numbered frames.
 
-use crate::output::{format_of, write_aovs, write_frame};
+use crate::output::{format_of, write_outputs};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
@@ -129,8 +129,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         let frame = render(&scene, &options)?;
         let out = if animated { numbered(&args.output, k) } else { args.output.clone() };
         let t = std::time::Instant::now();
-        write_frame(&out, &frame)?;
-        write_aovs(&out, &frame)?;
+        write_outputs(&out, &frame)?;
         if args.stats {
             let s = &frame.stats;
             eprintln!(

@@ -318,20 +318,31 @@ fn missing_scene_file() {
     assert_one_error(&render_scene(&s, &scene, &[]), 2, &["nope.toml", "no such file"], &s);
 }
 
-#[test]
-fn malformed_toml() {
-    let s = Scratch::new("malformed");
-    let cases = [
-        "[camera\neye = [0, 0, 4]\n",
-        "[camera]\neye = [0, 0, 4\n",
-        "[camera]\neye = \"unterminated\n",
-        "[camera]\neye = [0, 0, 4]\neye = [0, 0, 5]\n",
-        "[camera]\neye [0, 0, 4]\n",
-    ];
+/// Each malformed scene text must give exit 2 and one line naming the file.
+fn check_malformed(name: &str, cases: &[&str]) {
+    let s = Scratch::new(name);
     for (i, text) in cases.iter().enumerate() {
         let scene = s.write_input(&format!("bad{i}.toml"), text);
         assert_one_error(&render_scene(&s, &scene, &[]), 2, &[&format!("bad{i}.toml"), "malformed TOML"], &s);
     }
+}
+
+#[test]
+fn malformed_toml() {
+    check_malformed(
+        "malformed",
+        &[
+            "[camera]\neye = \"unterminated\n",
+            "[camera]\neye = [0, 0, 4]\neye = [0, 0, 5]\n",
+            "[camera]\neye [0, 0, 4]\n",
+            "a = 1 2\n",
+        ],
+    );
+}
+
+#[test]
+fn malformed_toml_unclosed_header_or_array() {
+    check_malformed("malformed2", &["[camera\neye = [0, 0, 4]\n", "[camera]\neye = [0, 0, 4\n"]);
 }
 
 #[test]
@@ -351,8 +362,7 @@ fn negative_radius() {
 #[test]
 fn nan_in_a_transform() {
     let s = Scratch::new("nan");
-    let scene =
-        s.write_input("scene.toml", scene_with("shape = \"sphere\"\ntransform = { translate = [nan, 0, 0] }"));
+    let scene = s.write_input("scene.toml", scene_with("shape = \"sphere\"\ntransform = { translate = [nan, 0, 0] }"));
     assert_one_error(&render_scene(&s, &scene, &[]), 2, &["objects[0].transform.translate[0]", "NaN"], &s);
 }
 
@@ -487,7 +497,10 @@ fn bumpgen_bad_options() {
 }
 
 #[test]
-fn unparsable_argument_is_one_line() {
+fn unparsable_arguments_are_one_line() {
     let s = Scratch::new("clap");
     assert_one_error(&render_default(&s, &["--width", "abc"]), 2, &["--width", "abc"], &s);
+    assert_one_error(&render_default(&s, &["--spp"]), 2, &["--spp"], &s);
+    assert_one_error(&wrinkle(&["bumpgen", "grid"]), 2, &["--output"], &s);
+    assert_one_error(&wrinkle(&["frobnicate"]), 2, &["frobnicate"], &s);
 }

@@ -414,12 +414,11 @@ fn scaling_by_two_halves_blinns_tilt_and_keeps_the_invariant_one() {
                     for (s, k, b, inv) in [(one, 1.0, b1, i1), (two, 2.0, b2, i2)] {
                         let pos = |u: f64, v: f64| match s {
                             Surface::Sphere { radius } => sphere_point(*radius as f64, u, v),
-                            _ => {
-                                let c =
-                                    if let Surface::Patch { corners } = s { corners.map(v64) } else { unreachable!() };
-                                let (bottom, top) = (c[0].lerp(c[1], u), c[3].lerp(c[2], u));
-                                bottom.lerp(top, v)
+                            Surface::Patch { corners } => {
+                                let c = corners.map(d3);
+                                c[0].lerp(c[1], u).lerp(c[3].lerp(c[2], u), v)
                             }
+                            _ => unreachable!("only spheres and patches here"),
                         };
                         let (u, v) = (u as f64, v as f64);
                         let pu = (pos(u + FD_STEP, v) - pos(u - FD_STEP, v)) / (2.0 * FD_STEP);

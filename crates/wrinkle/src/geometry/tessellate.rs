@@ -11,6 +11,8 @@ use glam::{Vec2, Vec3};
 /// so it faces the same way as N = Pu x Pv.
 #[derive(Clone, Debug, Default)]
 pub struct Mesh {
+    /// Grid segments along u and v.
+    pub segments: (usize, usize),
     pub positions: Vec<Vec3>,
     pub uvs: Vec<Vec2>,
     pub triangles: Vec<[u32; 3]>,
@@ -23,7 +25,7 @@ pub const MAX_SEGMENTS: usize = 1024;
 pub fn grid(surface: &Surface, nu: usize, nv: usize) -> Mesh {
     let (wrap_u, wrap_v) = surface.wraps();
     let (nu, nv) = (nu.max(1), nv.max(1));
-    let mut mesh = Mesh::default();
+    let mut mesh = Mesh { segments: (nu, nv), ..Mesh::default() };
     let columns = nu + 1;
     for j in 0..=nv {
         for i in 0..=nu {
@@ -48,33 +50,50 @@ pub fn grid(surface: &Surface, nu: usize, nv: usize) -> Mesh {
     mesh
 }
 
-/// Chooses the grid for a surface so that each segment spans about `target_px` pixels on screen.
+/// Chooses the grid for a surface so that each segment spans at most about `target_px` pixels on screen,
+/// and so that the flat triangles sag at most about `sag_px` pixels from the curved surface: the (u,v) the
+/// rasterizer interpolates then lands within that distance of the exact surface's.
 /// `pixels_per_unit(p)` gives the local screen scale at an object-space point (0 where it is not visible).
-pub fn segments_for(surface: &Surface, target_px: f32, pixels_per_unit: impl Fn(Vec3) -> f32) -> (usize, usize) {
+pub fn segments_for(
+    surface: &Surface,
+    target_px: f32,
+    sag_px: f32,
+    pixels_per_unit: impl Fn(Vec3) -> f32,
+) -> (usize, usize) {
     if surface.is_parallelogram() {
         return (1, 1);
     }
     const K: usize = 16;
-    let sample = |i: usize, j: usize| surface.position(i as f32 / K as f32, j as f32 / K as f32);
     let mut pts = Vec::with_capacity((K + 1) * (K + 1));
     for j in 0..=K {
         for i in 0..=K {
-            pts.push(sample(i, j));
+            pts.push(surface.position(i as f32 / K as f32, j as f32 / K as f32));
         }
     }
     let scale = pts.iter().map(|&p| pixels_per_unit(p)).fold(0.0_f32, f32::max);
     let at = |i: usize, j: usize| pts[j * (K + 1) + i];
-    let (mut len_u, mut len_v) = (0.0_f32, 0.0_f32);
-    for a in 0..=K {
-        len_u = len_u.max((0..K).map(|i| (at(i + 1, a) - at(i, a)).length()).sum());
-        len_v = len_v.max((0..K).map(|j| (at(a, j + 1) - at(a, j)).length()).sum());
-    }
     let (wrap_u, wrap_v) = surface.wraps();
-    let count = |len: f32, wraps: bool| {
-        let min = if wraps { 8 } else { 2 };
-        ((len * scale / target_px).ceil() as usize).clamp(min, MAX_SEGMENTS)
+    // Along each iso-curve: its length and how far its tangent turns. A curve of length L turning by T,
+    // cut into n chords, sags by about T L / (8 n^2).
+    let need = |curve: &dyn Fn(usize) -> Vec3, wraps: bool| -> usize {
+        let chords: Vec<Vec3> = (0..K).map(|k| curve(k + 1) - curve(k)).collect();
+        let len: f32 = chords.iter().map(|c| c.length()).sum::<f32>() * scale;
+        let mut turn: f32 = chords.windows(2).map(|w| w[0].angle_between(w[1])).filter(|a| a.is_finite()).sum();
+        if wraps {
+            let a = chords[K - 1].angle_between(chords[0]);
+            turn += if a.is_finite() { a } else { 0.0 };
+        }
+        let by_length = len / target_px;
+        let by_sag = (turn * len / (8.0 * sag_px)).sqrt();
+        by_length.max(by_sag).ceil() as usize
     };
-    (count(len_u, wrap_u), count(len_v, wrap_v))
+    let (mut nu, mut nv) = (0, 0);
+    for a in 0..=K {
+        nu = nu.max(need(&|k| at(k, a), wrap_u));
+        nv = nv.max(need(&|k| at(a, k), wrap_v));
+    }
+    let clamp = |n: usize, wraps: bool| n.clamp(if wraps { 8 } else { 2 }, MAX_SEGMENTS);
+    (clamp(nu, wrap_u), clamp(nv, wrap_v))
 }
 
 #[cfg(test)]
@@ -112,11 +131,18 @@ mod tests {
     #[test]
     fn segment_count_follows_screen_size() {
         let s = Surface::Sphere { radius: 1.0 };
-        let (nu, nv) = segments_for(&s, 10.0, |_| 100.0);
-        // Circumference 2 pi and meridian pi world units at 100 px per unit, 10 px per segment.
+        // Circumference 2 pi and meridian pi world units at 100 px per unit, 10 px per segment; a generous
+        // sag allowance leaves the length the only limit.
+        let (nu, nv) = segments_for(&s, 10.0, 100.0, |_| 100.0);
         assert!((60..=64).contains(&nu), "{nu}");
         assert!((30..=32).contains(&nv), "{nv}");
+        // A small sphere (radius 20 px): the sag decides. The equator turns 2 pi over 2 pi 20 px, so
+        // n = sqrt(2 pi * 40 pi / (8 * 0.05)) = 2 pi sqrt(20 / 0.4) ~ 44 chords (each sagging r (1 - cos(pi/n))).
+        let (nu, _) = segments_for(&s, 10.0, 0.05, |_| 20.0);
+        assert!((40..=48).contains(&nu), "{nu}");
+        let sag = 20.0 * (1.0 - (std::f32::consts::PI / nu as f32).cos());
+        assert!(sag < 0.06, "{sag}");
         let flat = Surface::Patch { corners: [Vec3::ZERO, Vec3::X, Vec3::X + Vec3::Y, Vec3::Y] };
-        assert_eq!(segments_for(&flat, 10.0, |_| 1000.0), (1, 1));
+        assert_eq!(segments_for(&flat, 10.0, 0.05, |_| 1000.0), (1, 1));
     }
 }

@@ -3,13 +3,14 @@
 
 pub mod camera;
 pub mod clip;
+pub mod refine;
 pub mod samples;
 pub mod setup;
 pub mod visibility;
 
 pub use camera::{Camera, Projection};
 pub use samples::SamplePattern;
-pub use setup::{ScreenTriangle, TriangleSetup};
+pub use setup::{Cull, ScreenTriangle, TriangleSetup};
 pub use visibility::{Bins, VisBuffer};
 
 /// Sub-pixel precision of the rasterizer: 8 bits (1/256 pixel).

@@ -76,6 +76,16 @@ impl ScreenTriangle {
     }
 }
 
+/// Which triangles the setup drops by the way they face.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Cull {
+    /// Keep every triangle (open surfaces, seen from both sides).
+    Nothing,
+    /// Drop triangles whose (u,v) winding faces away from the eye (closed surfaces); `mirrored` when the
+    /// object's transform has a negative determinant, which turns the winding over.
+    FacingAway { mirrored: bool },
+}
+
 /// A mesh vertex in camera space with its projection, computed once and shared by its triangles.
 #[derive(Clone, Copy, Debug)]
 pub struct ProjectedVertex {
@@ -102,8 +112,17 @@ impl<'a> TriangleSetup<'a> {
     }
 
     /// Carries a mesh's object-space vertices into camera space and onto the screen.
-    pub fn project_vertices(&self, positions: &[Vec3], uvs: &[Vec2], object_to_camera: &Affine3A) -> Vec<ProjectedVertex> {
-        positions.iter().zip(uvs).map(|(&p, &uv)| self.project(ClipVertex { pos: object_to_camera.transform_point3(p), uv })).collect()
+    pub fn project_vertices(
+        &self,
+        positions: &[Vec3],
+        uvs: &[Vec2],
+        object_to_camera: &Affine3A,
+    ) -> Vec<ProjectedVertex> {
+        positions
+            .iter()
+            .zip(uvs)
+            .map(|(&p, &uv)| self.project(ClipVertex { pos: object_to_camera.transform_point3(p), uv }))
+            .collect()
     }
 
     fn project(&self, clip: ClipVertex) -> ProjectedVertex {
@@ -115,8 +134,8 @@ impl<'a> TriangleSetup<'a> {
     }
 
     /// Adds the triangles of a projected mesh, all of surface `surface`.
-    /// `cull` drops triangles that face away from the eye (closed surfaces).
-    pub fn add_triangles(&mut self, vertices: &[ProjectedVertex], triangles: &[[u32; 3]], surface: u32, cull: bool) {
+    /// `cull` says which triangles to drop by the way they face.
+    pub fn add_triangles(&mut self, vertices: &[ProjectedVertex], triangles: &[[u32; 3]], surface: u32, cull: Cull) {
         self.triangles.reserve(triangles.len());
         for t in triangles {
             let tri = t.map(|k| vertices[k as usize]);
@@ -134,16 +153,19 @@ impl<'a> TriangleSetup<'a> {
         }
     }
 
-    fn add_triangle(&mut self, tri: &[ProjectedVertex; 3], surface: u32, cull: bool) {
+    fn add_triangle(&mut self, tri: &[ProjectedVertex; 3], surface: u32, cull: Cull) {
         let cam = self.camera;
         let fixed = tri.map(|v| v.fixed);
         let area = edge_at(fixed[0], fixed[1], fixed[2]);
         if area == 0 {
             return;
         }
-        // Counter-clockwise in (u,v) faces along N; on a screen with y down that is a negative area.
-        if cull && area > 0 {
-            return;
+        // Counter-clockwise in (u,v) faces along N; on a screen with y down that is a negative area
+        // (a positive one when the object's transform mirrors it).
+        if let Cull::FacingAway { mirrored } = cull {
+            if (area > 0) != mirrored {
+                return;
+            }
         }
         // Order the vertices so the area is positive and E >= 0 inside.
         let order = if area > 0 { [0, 1, 2] } else { [0, 2, 1] };

@@ -6,23 +6,27 @@ mod frame;
 pub use frame::{Aovs, Frame, Stats};
 
 use crate::geometry::tessellate::{grid, segments_for, Mesh};
-use crate::raster::visibility::EMPTY;
+use crate::raster::refine::refine_uv;
 use crate::raster::setup::ProjectedVertex;
-use crate::raster::{Bins, Camera, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
+use crate::raster::visibility::EMPTY;
+use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
 use crate::scene::Scene;
 use crate::shade::{BumpFilter, ShadeContext, SurfaceInstance};
 use crate::texture::Footprint;
 use crate::{Error, Result};
-use glam::{Affine3A, Mat3, Quat, Vec3};
+use glam::{Affine3A, Mat3, Quat, Vec2, Vec3};
 use rayon::prelude::*;
 use std::time::Instant;
 
 /// The largest image side accepted.
 pub const MAX_SIDE: usize = 16384;
 
-/// About how many pixels one tessellation segment spans on screen: fine enough that the triangles'
-/// (u,v) stay within a small fraction of a pixel of the exact surface's.
-const SEGMENT_PX: f32 = 12.0;
+/// The longest a tessellation segment may be on screen, in pixels.
+const SEGMENT_PX: f32 = 16.0;
+/// How far (in pixels) a flat triangle may sag from the curved surface. The shader's Newton step
+/// (raster/refine.rs) then moves each sample's (u,v) onto its ray, leaving an error of about the square of
+/// this over the radius of curvature: thousandths of a pixel.
+const SAG_PX: f32 = 0.25;
 
 #[derive(Clone, Debug)]
 pub struct RenderOptions {
@@ -79,16 +83,18 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Frame> {
     let camera = Camera::new(cam.eye, cam.look_at, cam.up, cam.projection, w as u32, h as u32);
 
     let t = Instant::now();
-    let instances = instances(scene, options.turntable_degrees);
+    let instances = instances(scene, &camera, options.turntable_degrees);
     let meshes: Vec<Mesh> = instances
         .par_iter()
         .map(|inst| {
-            let (nu, nv) = segments_for(&inst.surface, SEGMENT_PX, |p| {
+            let (nu, nv) = segments_for(&inst.surface, SEGMENT_PX, SAG_PX, |p| {
                 camera.pixels_per_unit(inst.object_to_world.transform_point3(p))
             });
             grid(&inst.surface, nu, nv)
         })
         .collect();
+    let max_steps: Vec<Vec2> =
+        meshes.iter().map(|m| Vec2::new(1.0 / m.segments.0 as f32, 1.0 / m.segments.1 as f32)).collect();
     stats.tessellate_ms = ms(t);
 
     let t = Instant::now();
@@ -119,6 +125,8 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Frame> {
     let band_len = tile_size * w;
     let job = TileJob {
         bins: &bins,
+        camera: &camera,
+        max_steps: &max_steps,
         triangles: &triangles,
         pattern: &pattern,
         instances: &instances,
@@ -152,7 +160,7 @@ fn ms(t: Instant) -> f64 {
 }
 
 /// Every surface of every object, placed in the world.
-fn instances(scene: &Scene, turntable_degrees: f32) -> Vec<SurfaceInstance> {
+fn instances(scene: &Scene, camera: &Camera, turntable_degrees: f32) -> Vec<SurfaceInstance> {
     let pivot = scene.camera.look_at;
     let spin = Affine3A::from_translation(pivot)
         * Affine3A::from_quat(Quat::from_rotation_y(turntable_degrees.to_radians()))
@@ -166,6 +174,7 @@ fn instances(scene: &Scene, turntable_degrees: f32) -> Vec<SurfaceInstance> {
             out.push(SurfaceInstance {
                 surface,
                 object_to_world,
+                object_to_camera: camera.world_to_camera * object_to_world,
                 normal_matrix,
                 material: object.material,
                 object: index as u32,
@@ -183,7 +192,7 @@ fn setup_triangles(camera: &Camera, instances: &[SurfaceInstance], meshes: &[Mes
     let projected: Vec<Vec<ProjectedVertex>> = instances
         .par_iter()
         .zip(meshes)
-        .map(|(inst, mesh)| projector.project_vertices(&mesh.positions, &mesh.uvs, &(camera.world_to_camera * inst.object_to_world)))
+        .map(|(inst, mesh)| projector.project_vertices(&mesh.positions, &mesh.uvs, &inst.object_to_camera))
         .collect();
     let jobs: Vec<(usize, usize)> = meshes
         .iter()
@@ -195,16 +204,35 @@ fn setup_triangles(camera: &Camera, instances: &[SurfaceInstance], meshes: &[Mes
         .map(|&(s, start)| {
             let tris = &meshes[s].triangles;
             let mut setup = TriangleSetup::new(camera);
-            setup.add_triangles(&projected[s], &tris[start..(start + CHUNK).min(tris.len())], s as u32, !instances[s].two_sided);
+            setup.add_triangles(
+                &projected[s],
+                &tris[start..(start + CHUNK).min(tris.len())],
+                s as u32,
+                instances[s].cull(),
+            );
             setup.triangles
         })
         .collect();
     parts.concat()
 }
 
+impl SurfaceInstance {
+    /// Closed surfaces are never seen from inside: their triangles facing away are dropped.
+    fn cull(&self) -> Cull {
+        if self.two_sided {
+            Cull::Nothing
+        } else {
+            Cull::FacingAway { mirrored: self.object_to_world.matrix3.determinant() < 0.0 }
+        }
+    }
+}
+
 /// Everything one tile needs, shared by all tiles of a frame.
 struct TileJob<'a> {
     bins: &'a Bins,
+    camera: &'a Camera,
+    /// Per surface, the longest (u,v) step of the ray-exact refinement: one tessellation segment.
+    max_steps: &'a [Vec2],
     triangles: &'a [ScreenTriangle],
     pattern: &'a SamplePattern,
     instances: &'a [SurfaceInstance],
@@ -249,11 +277,20 @@ impl TileJob<'_> {
                         continue;
                     }
                     let tri = &self.triangles[t as usize];
-                    let uv = tri.uv_at(vis.bary[k]);
-                    let d = tri.uv_derivatives(vis.sample_position(x, y, s, self.pattern));
+                    let screen = vis.sample_position(x, y, s, self.pattern);
+                    let d = tri.uv_derivatives(screen);
                     let footprint = Footprint { dudx: d[0], dvdx: d[1], dudy: d[2], dvdy: d[3] };
                     let inst = &self.instances[tri.surface as usize];
-                    let shaded = self.shade.shade(inst, uv, &footprint);
+                    let max_step = self.max_steps[tri.surface as usize];
+                    let (uv, surface_frame) = refine_uv(
+                        self.camera,
+                        &inst.surface,
+                        &inst.object_to_camera,
+                        tri.uv_at(vis.bary[k]),
+                        screen,
+                        max_step,
+                    );
+                    let shaded = self.shade.shade(inst, uv, &surface_frame, &footprint);
                     sum += shaded.color;
                     if self.aovs.any() {
                         acc.add(&shaded, uv, inst.object);

@@ -25,15 +25,13 @@ impl<'a> Fields<'a> {
         let table = value
             .as_table()
             .ok_or_else(|| Error::scene(&path, format!("expected a table, got {}", describe(value))))?;
+        let fields = Fields { path, table };
         for key in table.keys() {
             if !known.contains(&key.as_str()) {
-                return Err(Error::scene(
-                    format!("{path}.{key}"),
-                    format!("unknown field (expected one of: {})", known.join(", ")),
-                ));
+                return Err(fields.error(key, format!("unknown field (expected one of: {})", known.join(", "))));
             }
         }
-        Ok(Fields { path, table })
+        Ok(fields)
     }
 
     pub fn at(&self, key: &str) -> String {

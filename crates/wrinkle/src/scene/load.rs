@@ -36,9 +36,7 @@ impl Scene {
 
     /// Parses scene text; relative file names resolve against `base`.
     pub fn parse(text: &str, base: &Path) -> Result<Scene> {
-        let root: Value = toml::from_str::<toml::Table>(text)
-            .map(Value::Table)
-            .map_err(|e| Error::scene("", format!("malformed TOML: {}", e.message().trim())))?;
+        let root: Value = toml::from_str::<toml::Table>(text).map(Value::Table).map_err(|e| toml_error(text, &e))?;
         let top = Fields::new("", &root, &["camera", "light", "object"])?;
         let camera = parse_camera(top.get("camera").ok_or_else(|| Error::scene("camera", "missing table [camera]"))?)?;
         let lights = top
@@ -56,6 +54,18 @@ impl Scene {
         }
         Ok(Scene { camera, lights, objects, materials })
     }
+}
+
+/// A TOML syntax error as one line with its position: `malformed TOML at line 3, column 8: invalid table header; expected `.`, `]``.
+fn toml_error(text: &str, e: &toml::de::Error) -> Error {
+    let message = e.message().lines().map(str::trim).filter(|l| !l.is_empty()).collect::<Vec<_>>().join("; ");
+    let position = e.span().map(|span| {
+        let before = &text[..span.start.min(text.len())];
+        let line = before.matches('\n').count() + 1;
+        let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+        format!(" at line {line}, column {column}")
+    });
+    Error::scene("", format!("malformed TOML{}: {message}", position.unwrap_or_default()))
 }
 
 fn io_message(e: &std::io::Error) -> String {
@@ -355,6 +365,21 @@ fn parse_generator(path: &str, v: &Value) -> Result<crate::image::GreyImage> {
     )?;
     let size = f.integer_where("size", 256, 1, 8192)?;
     let kind = f.required("kind", f.string("kind")?)?;
+    let own: &[&str] = match kind {
+        "grid" => &["cells", "line_width", "soft"],
+        "text" => &["text", "soft"],
+        "rivets" => &["count", "radius"],
+        "bricks" => &["rows", "bricks_per_row", "mortar", "bevel"],
+        _ => &[],
+    };
+    for key in ["cells", "line_width", "soft", "text", "count", "radius", "rows", "bricks_per_row", "mortar", "bevel"] {
+        if f.get(key).is_some() && !own.contains(&key) && !own.is_empty() {
+            return Err(Error::scene(
+                f.at(key),
+                format!("not a parameter of kind \"{kind}\" (it has: {})", own.join(", ")),
+            ));
+        }
+    }
     let fraction = |x: f32| (0.0..=1.0).contains(&x);
     let generator = match kind {
         "grid" => {

@@ -9,7 +9,7 @@ pub use material::{Bump, BumpFilter, Material};
 
 use crate::bump::blinn::perturbed_normal;
 use crate::bump::Perturbation;
-use crate::geometry::Surface;
+use crate::geometry::{Surface, SurfaceFrame};
 use crate::texture::Footprint;
 use glam::{Affine3A, Mat3, Vec2, Vec3};
 
@@ -17,6 +17,7 @@ use glam::{Affine3A, Mat3, Vec2, Vec3};
 pub struct SurfaceInstance {
     pub surface: Surface,
     pub object_to_world: Affine3A,
+    pub object_to_camera: Affine3A,
     pub normal_matrix: Mat3,
     pub material: usize,
     /// The object's index in the scene.
@@ -51,15 +52,14 @@ pub struct ShadedSample {
 }
 
 impl ShadeContext<'_> {
-    /// Shades the surface point at `uv`, whose screen derivatives are `footprint`.
+    /// Shades the surface point at `uv` (whose frame is `frame` and whose screen derivatives are `footprint`).
     #[inline]
-    pub fn shade(&self, inst: &SurfaceInstance, uv: Vec2, footprint: &Footprint) -> ShadedSample {
+    pub fn shade(&self, inst: &SurfaceInstance, uv: Vec2, frame: &SurfaceFrame, footprint: &Footprint) -> ShadedSample {
         let material = &self.materials[inst.material];
-        let frame = inst.surface.frame(uv.x, uv.y);
         let n_geo = frame.pu.cross(frame.pv);
         let n_obj = match (&material.bump, self.bump_enabled) {
             (Some(bump), true) => perturbed_normal(
-                &frame,
+                frame,
                 bump.perturbation(uv, footprint, self.bump_filter.unwrap_or(bump.filter)),
                 bump.formula,
             ),
