@@ -17,6 +17,19 @@ pub struct SurfaceFrame {
     pub pvv: Vec3,
 }
 
+impl SurfaceFrame {
+    /// The frame a small step (du, dv) away, to second order in P and first order in its derivatives.
+    #[inline]
+    pub fn advanced(&self, du: f32, dv: f32) -> SurfaceFrame {
+        SurfaceFrame {
+            p: self.p + self.pu * du + self.pv * dv + 0.5 * (self.puu * du * du + self.pvv * dv * dv) + self.puv * du * dv,
+            pu: self.pu + self.puu * du + self.puv * dv,
+            pv: self.pv + self.puv * du + self.pvv * dv,
+            ..*self
+        }
+    }
+}
+
 /// One parametric surface in its object space.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Surface {
@@ -259,6 +272,16 @@ mod tests {
         assert!(worst < 4e-7, "{worst}");
         assert_eq!(sin_cos_turns(0.0), (0.0, 1.0));
         assert_eq!(sin_cos_turns(0.25), (1.0, 0.0));
+    }
+
+    #[test]
+    fn advanced_frame_matches_a_fresh_evaluation() {
+        let s = Surface::Torus { major_radius: 1.0, minor_radius: 0.3 };
+        let (u, v, du, dv) = (0.3, 0.6, 3e-4, -2e-4);
+        let (a, b) = (s.frame(u, v).advanced(du, dv), s.frame(u + du, v + dv));
+        assert!((a.p - b.p).length() < 1e-6, "{} vs {}", a.p, b.p);
+        assert!((a.pu - b.pu).length() < 1e-5 * b.pu.length());
+        assert!((a.pv - b.pv).length() < 1e-5 * b.pv.length());
     }
 
     #[test]
