@@ -61,8 +61,18 @@ pub fn refine_uv(
     let (wrap_u, wrap_v) = surface.wraps();
     let settle = |x: f32, wraps: bool| if wraps { x - x.floor() } else { x.clamp(0.0, 1.0) };
     let refined = Vec2::new(settle(uv.x + step.x, wrap_u), settle(uv.y + step.y, wrap_v));
-    (refined, frame.advanced(refined.x - uv.x, refined.y - uv.y))
+    // The usual step is a few hundredths of a segment, where the expansion is exact to f32 precision;
+    // longer ones (towards grazing views) evaluate the surface again.
+    let frame = if step.x.abs() < TAYLOR_STEP * max_step.x && step.y.abs() < TAYLOR_STEP * max_step.y {
+        frame.advanced(refined.x - uv.x, refined.y - uv.y)
+    } else {
+        surface.frame(refined.x, refined.y)
+    };
+    (refined, frame)
 }
+
+/// The largest step, as a fraction of a tessellation segment, taken by Taylor expansion of the frame.
+const TAYLOR_STEP: f32 = 0.05;
 
 #[cfg(test)]
 mod tests {
