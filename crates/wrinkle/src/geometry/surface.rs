@@ -22,7 +22,11 @@ impl SurfaceFrame {
     #[inline]
     pub fn advanced(&self, du: f32, dv: f32) -> SurfaceFrame {
         SurfaceFrame {
-            p: self.p + self.pu * du + self.pv * dv + 0.5 * (self.puu * du * du + self.pvv * dv * dv) + self.puv * du * dv,
+            p: self.p
+                + self.pu * du
+                + self.pv * dv
+                + 0.5 * (self.puu * du * du + self.pvv * dv * dv)
+                + self.puv * du * dv,
             pu: self.pu + self.puu * du + self.puv * dv,
             pv: self.pv + self.puv * du + self.pvv * dv,
             ..*self

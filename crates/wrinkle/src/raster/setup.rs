@@ -21,6 +21,16 @@ impl Plane {
     }
 }
 
+/// A triangle's attributes at one screen position.
+#[derive(Clone, Copy, Debug)]
+pub struct Interpolated {
+    /// Perspective-correct barycentrics of vertices 1 and 2.
+    pub bary: [f32; 2],
+    pub uv: Vec2,
+    /// du/dx, dv/dx, du/dy, dv/dy.
+    pub duv: [f32; 4],
+}
+
 /// A triangle ready to rasterize and to interpolate.
 #[derive(Clone, Debug)]
 pub struct ScreenTriangle {
@@ -44,23 +54,10 @@ pub struct ScreenTriangle {
 }
 
 impl ScreenTriangle {
-    /// Perspective-correct barycentrics (b1, b2) at a screen position.
+    /// Everything interpolated at a screen position: perspective-correct barycentrics, (u,v) and its
+    /// screen derivatives, from one evaluation of the planes and one division.
     #[inline]
-    pub fn barycentrics(&self, p: Vec2) -> (f32, f32) {
-        let (dx, dy) = (p.x - self.origin.x, p.y - self.origin.y);
-        let s = self.s.at(dx, dy);
-        (self.b1.at(dx, dy) / s, self.b2.at(dx, dy) / s)
-    }
-
-    /// (u,v) from perspective-correct barycentrics (b1, b2).
-    #[inline]
-    pub fn uv_at(&self, b: [f32; 2]) -> Vec2 {
-        self.uv[0] + b[0] * (self.uv[1] - self.uv[0]) + b[1] * (self.uv[2] - self.uv[0])
-    }
-
-    /// The screen derivatives of (u,v) at a screen position: (du/dx, dv/dx, du/dy, dv/dy).
-    #[inline]
-    pub fn uv_derivatives(&self, p: Vec2) -> [f32; 4] {
+    pub fn interpolate(&self, p: Vec2) -> Interpolated {
         let (dx, dy) = (p.x - self.origin.x, p.y - self.origin.y);
         let inv = 1.0 / self.s.at(dx, dy);
         let (b1, b2) = (self.b1.at(dx, dy) * inv, self.b2.at(dx, dy) * inv);
@@ -72,7 +69,7 @@ impl ScreenTriangle {
         let db2y = (self.b2.ay - b2 * self.s.ay) * inv;
         let ddx = db1x * e1 + db2x * e2;
         let ddy = db1y * e1 + db2y * e2;
-        [ddx.x, ddx.y, ddy.x, ddy.y]
+        Interpolated { bary: [b1, b2], uv: self.uv[0] + b1 * e1 + b2 * e2, duv: [ddx.x, ddx.y, ddy.x, ddy.y] }
     }
 }
 

@@ -3,7 +3,7 @@
 //! parallel; triangles are binned to the tiles their bounding boxes touch.
 
 use super::samples::SamplePattern;
-use super::setup::ScreenTriangle;
+use super::setup::{Interpolated, ScreenTriangle};
 use super::SUBPIXEL;
 use glam::Vec2;
 
@@ -65,8 +65,8 @@ impl VisBuffer {
         }
     }
 
-    /// Rasterizes every triangle binned to tile (tx, ty), then fills in objects and barycentrics.
-    /// `object_of(surface)` names the object a surface belongs to.
+    /// Rasterizes every triangle binned to tile (tx, ty): depth and triangle per sample. The barycentrics
+    /// and objects are filled in by `resolve`, sample by sample, as they are shaded.
     pub fn render_tile(
         &mut self,
         bins: &Bins,
@@ -74,13 +74,11 @@ impl VisBuffer {
         screen: (usize, usize),
         triangles: &[ScreenTriangle],
         pattern: &SamplePattern,
-        object_of: impl Fn(u32) -> u32,
     ) {
         self.begin_tile(bins.tile_size, tile, screen);
         for &t in &bins.bins[tile.1 * bins.tiles_x + tile.0] {
             self.rasterize(&triangles[t as usize], t, pattern);
         }
-        self.resolve_barycentrics(triangles, pattern, object_of);
     }
 
     /// Places the buffer on tile (tx, ty) of a `screen` (width, height) and clears it.
@@ -109,28 +107,13 @@ impl VisBuffer {
         });
     }
 
-    fn resolve_barycentrics(
-        &mut self,
-        triangles: &[ScreenTriangle],
-        pattern: &SamplePattern,
-        object_of: impl Fn(u32) -> u32,
-    ) {
-        for y in 0..self.height {
-            for x in 0..self.width {
-                for s in 0..self.spp {
-                    let k = (y * self.width + x) * self.spp + s;
-                    let t = self.triangle[k];
-                    if t == EMPTY {
-                        self.object[k] = EMPTY;
-                        continue;
-                    }
-                    let tri = &triangles[t as usize];
-                    let (b1, b2) = tri.barycentrics(self.sample_position(x, y, s, pattern));
-                    self.bary[k] = [b1, b2];
-                    self.object[k] = object_of(tri.surface);
-                }
-            }
-        }
+    /// Interpolates sample `k` (at `screen`) on its triangle and records its barycentrics and object.
+    #[inline]
+    pub fn resolve(&mut self, k: usize, tri: &ScreenTriangle, object: u32, screen: Vec2) -> Interpolated {
+        let at = tri.interpolate(screen);
+        self.bary[k] = at.bary;
+        self.object[k] = object;
+        at
     }
 
     /// The screen position of sample `s` of tile pixel (x, y).

@@ -261,8 +261,7 @@ impl TileJob<'_> {
             }
             return;
         }
-        let instances = self.instances;
-        vis.render_tile(self.bins, tile, (w, h), self.triangles, self.pattern, |s| instances[s as usize].object);
+        vis.render_tile(self.bins, tile, (w, h), self.triangles, self.pattern);
         let spp = vis.spp;
         let inv_spp = 1.0 / spp as f32;
         for y in 0..vis.height {
@@ -277,19 +276,14 @@ impl TileJob<'_> {
                         continue;
                     }
                     let tri = &self.triangles[t as usize];
-                    let screen = vis.sample_position(x, y, s, self.pattern);
-                    let d = tri.uv_derivatives(screen);
-                    let footprint = Footprint { dudx: d[0], dvdx: d[1], dudy: d[2], dvdy: d[3] };
                     let inst = &self.instances[tri.surface as usize];
+                    let screen = vis.sample_position(x, y, s, self.pattern);
+                    let at = vis.resolve(k, tri, inst.object, screen);
+                    let [dudx, dvdx, dudy, dvdy] = at.duv;
+                    let footprint = Footprint { dudx, dvdx, dudy, dvdy };
                     let max_step = self.max_steps[tri.surface as usize];
-                    let (uv, surface_frame) = refine_uv(
-                        self.camera,
-                        &inst.surface,
-                        &inst.object_to_camera,
-                        tri.uv_at(vis.bary[k]),
-                        screen,
-                        max_step,
-                    );
+                    let (uv, surface_frame) =
+                        refine_uv(self.camera, &inst.surface, &inst.object_to_camera, at.uv, screen, max_step);
                     let shaded = self.shade.shade(inst, uv, &surface_frame, &footprint);
                     sum += shaded.color;
                     if self.aovs.any() {

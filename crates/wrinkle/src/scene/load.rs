@@ -434,7 +434,19 @@ fn parse_generator(path: &str, v: &Value) -> Result<crate::image::GreyImage> {
     // The generators name their parameters as `bumpgen` options (--line-width); here they are fields.
     generator.generate(size).map_err(|e| match e {
         Error::Invalid(m) => {
-            let fields = ["size", "cells", "line_width", "soft", "text", "count", "radius", "rows", "bricks_per_row", "mortar", "bevel"];
+            let fields = [
+                "size",
+                "cells",
+                "line_width",
+                "soft",
+                "text",
+                "count",
+                "radius",
+                "rows",
+                "bricks_per_row",
+                "mortar",
+                "bevel",
+            ];
             let m = fields.iter().fold(m, |m, key| m.replace(&format!("--{}", key.replace('_', "-")), key));
             Error::scene(path, m)
         }
