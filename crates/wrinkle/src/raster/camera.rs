@@ -55,6 +55,19 @@ impl Camera {
         }
     }
 
+    /// How the screen position of camera-space point `p` moves along camera-space direction `d`.
+    #[inline]
+    pub fn project_derivative(&self, p: Vec3, d: Vec3) -> Vec2 {
+        match self.projection {
+            Projection::Perspective { .. } => {
+                // s = c + k (x, -y) / w with w = -z, so ds = k / w (dx + (x/w) dz, -(dy + (y/w) dz)).
+                let inv_w = 1.0 / -p.z;
+                Vec2::new(d.x + p.x * inv_w * d.z, -(d.y + p.y * inv_w * d.z)) * (self.scale * inv_w)
+            }
+            Projection::Orthographic { .. } => Vec2::new(d.x, -d.y) * self.scale,
+        }
+    }
+
     /// Screen pixels per world unit near a world point; 0 behind the eye.
     pub fn pixels_per_unit(&self, world: Vec3) -> f32 {
         match self.projection {
@@ -107,6 +120,12 @@ mod tests {
         let (s, q) = cam.project(cam.world_to_camera.transform_point3(world));
         assert!((s - Vec2::new(37.5, 150.25)).length() < 1e-3);
         assert!(q > 0.0);
+        // The analytic derivative of the projection against a finite difference.
+        let p = Vec3::new(0.3, -0.2, -3.0);
+        let dir = Vec3::new(0.5, 0.7, -0.4);
+        let h = 1e-3;
+        let fd = (cam.project(p + h * dir).0 - cam.project(p - h * dir).0) / (2.0 * h);
+        assert!((cam.project_derivative(p, dir) - fd).length() < 1e-2, "{fd}");
         // The top of the field of view is 20 degrees above the axis.
         let (_, top) = cam.ray(Vec2::new(160.0, 0.0));
         assert!((top.angle_between(d).to_degrees() - 20.0).abs() < 1e-3);

@@ -5,29 +5,9 @@
 //! The frame at the refined (u,v) comes from the second-order Taylor expansion of the one already evaluated:
 //! the step is a fraction of a pixel, so what that leaves out is far below f32 precision of the result.
 
-use super::camera::{Camera, Projection};
+use super::camera::Camera;
 use crate::geometry::{Surface, SurfaceFrame};
-use glam::{Affine3A, Vec2, Vec3};
-
-/// The screen position of a camera-space point and its derivatives along two camera-space directions.
-#[inline]
-fn screen_and_derivatives(camera: &Camera, p: Vec3, du: Vec3, dv: Vec3) -> (Vec2, Vec2, Vec2) {
-    let (cx, cy) = (0.5 * camera.width as f32, 0.5 * camera.height as f32);
-    let k = camera.scale;
-    match camera.projection {
-        Projection::Perspective { .. } => {
-            // s = c + k (x, -y) / w with w = -z, so ds = k / w (dx + (x/w) dz, -(dy + (y/w) dz)).
-            let inv_w = 1.0 / -p.z;
-            let (xw, yw) = (p.x * inv_w, p.y * inv_w);
-            let d = |v: Vec3| Vec2::new(v.x + xw * v.z, -(v.y + yw * v.z)) * (k * inv_w);
-            (Vec2::new(cx + k * xw, cy - k * yw), d(du), d(dv))
-        }
-        Projection::Orthographic { .. } => {
-            let d = |v: Vec3| Vec2::new(v.x, -v.y) * k;
-            (Vec2::new(cx + k * p.x, cy - k * p.y), d(du), d(dv))
-        }
-    }
-}
+use glam::{Affine3A, Vec2};
 
 /// Refines `uv` so that the exact surface point lies on the ray through `screen`, and returns it with the
 /// surface frame there. Steps longer than `max_step` (about one tessellation segment) are not taken: they
@@ -43,12 +23,9 @@ pub fn refine_uv(
 ) -> (Vec2, SurfaceFrame) {
     let frame = surface.frame(uv.x, uv.y);
     let p = object_to_camera.transform_point3(frame.p);
-    let (s, su, sv) = screen_and_derivatives(
-        camera,
-        p,
-        object_to_camera.transform_vector3(frame.pu),
-        object_to_camera.transform_vector3(frame.pv),
-    );
+    let (s, _) = camera.project(p);
+    let su = camera.project_derivative(p, object_to_camera.transform_vector3(frame.pu));
+    let sv = camera.project_derivative(p, object_to_camera.transform_vector3(frame.pv));
     let r = screen - s;
     let det = su.x * sv.y - su.y * sv.x;
     if det.abs() < 1e-12 {
@@ -77,6 +54,8 @@ const TAYLOR_STEP: f32 = 0.05;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::raster::Projection;
+    use glam::Vec3;
 
     /// The refined point projects onto the sample position, to a small fraction of the initial error.
     #[test]

@@ -344,25 +344,24 @@ fn parse_bump(path: &str, v: &Value, base: &Path) -> Result<Bump> {
     })
 }
 
+/// The fields of a generator table: its kind, its size, then the parameters of every kind.
+const GENERATOR_FIELDS: &[&str] = &[
+    "kind",
+    "size",
+    "cells",
+    "line_width",
+    "soft",
+    "text",
+    "count",
+    "radius",
+    "rows",
+    "bricks_per_row",
+    "mortar",
+    "bevel",
+];
+
 fn parse_generator(path: &str, v: &Value) -> Result<crate::image::GreyImage> {
-    let f = Fields::new(
-        path,
-        v,
-        &[
-            "kind",
-            "size",
-            "cells",
-            "line_width",
-            "soft",
-            "text",
-            "count",
-            "radius",
-            "rows",
-            "bricks_per_row",
-            "mortar",
-            "bevel",
-        ],
-    )?;
+    let f = Fields::new(path, v, GENERATOR_FIELDS)?;
     let size = f.integer_where("size", 256, 1, 8192)?;
     let kind = f.required("kind", f.string("kind")?)?;
     let own: &[&str] = match kind {
@@ -372,7 +371,7 @@ fn parse_generator(path: &str, v: &Value) -> Result<crate::image::GreyImage> {
         "bricks" => &["rows", "bricks_per_row", "mortar", "bevel"],
         _ => &[],
     };
-    for key in ["cells", "line_width", "soft", "text", "count", "radius", "rows", "bricks_per_row", "mortar", "bevel"] {
+    for &key in &GENERATOR_FIELDS[2..] {
         if f.get(key).is_some() && !own.contains(&key) && !own.is_empty() {
             return Err(Error::scene(
                 f.at(key),
@@ -434,20 +433,8 @@ fn parse_generator(path: &str, v: &Value) -> Result<crate::image::GreyImage> {
     // The generators name their parameters as `bumpgen` options (--line-width); here they are fields.
     generator.generate(size).map_err(|e| match e {
         Error::Invalid(m) => {
-            let fields = [
-                "size",
-                "cells",
-                "line_width",
-                "soft",
-                "text",
-                "count",
-                "radius",
-                "rows",
-                "bricks_per_row",
-                "mortar",
-                "bevel",
-            ];
-            let m = fields.iter().fold(m, |m, key| m.replace(&format!("--{}", key.replace('_', "-")), key));
+            let m =
+                GENERATOR_FIELDS[1..].iter().fold(m, |m, key| m.replace(&format!("--{}", key.replace('_', "-")), key));
             Error::scene(path, m)
         }
         other => other,
