@@ -231,20 +231,53 @@ fn replicate(cell: &GreyImage, across: usize, down: usize) -> GreyImage {
 }
 
 /// Separable tent blur that wraps around the edges: tap k has weight max(0, radius + 1 - |k|),
-/// so radius 0 leaves the image unchanged.
+/// so radius 0 leaves the image unchanged. Prefix sums make each texel cost the same whatever the radius.
 fn periodic_blur(img: &GreyImage, radius: f64) -> GreyImage {
-    let reach = radius.ceil() as isize;
-    let taps: Vec<(isize, f64)> = (-reach..=reach).map(|k| (k, radius + 1.0 - k.abs() as f64)).collect();
-    let total: f64 = taps.iter().map(|&(_, w)| w).sum();
     let (width, height) = (img.width, img.height);
-    let pass = |src: &GreyImage, dx: isize, dy: isize| {
-        Image::from_fn(width, height, |x, y| {
-            let sum: f64 =
-                taps.iter().map(|&(k, w)| w * src.get(wrap(x, k * dx, width), wrap(y, k * dy, height)) as f64).sum();
-            (sum / total) as f32
+    let mut out = img.clone();
+    let mut line = Vec::new();
+    for y in 0..height {
+        line.clear();
+        line.extend((0..width).map(|x| out.get(x, y) as f64));
+        for (x, v) in periodic_tent(&line, radius).into_iter().enumerate() {
+            out.set(x, y, v as f32);
+        }
+    }
+    for x in 0..width {
+        line.clear();
+        line.extend((0..height).map(|y| out.get(x, y) as f64));
+        for (y, v) in periodic_tent(&line, radius).into_iter().enumerate() {
+            out.set(x, y, v as f32);
+        }
+    }
+    out
+}
+
+/// One periodic line through the tent: sum over |k| <= r of (radius + 1 - |k|) x[i+k], normalised, as
+/// (radius + 1) * (box sum) - (sum of |k| x[i+k]), both from prefix sums of x and of t x over the line
+/// extended by r on each side.
+fn periodic_tent(x: &[f64], radius: f64) -> Vec<f64> {
+    let n = x.len();
+    let r = radius.ceil() as usize;
+    let total: f64 = (radius + 1.0) * (2 * r + 1) as f64 - (r * (r + 1)) as f64;
+    // Extended line e[t] = x[(t - r) mod n] for t in 0 .. n + 2r, with prefix sums p0 (of e) and p1 (of t e).
+    let (mut p0, mut p1) = (vec![0.0; n + 2 * r + 1], vec![0.0; n + 2 * r + 1]);
+    for t in 0..n + 2 * r {
+        let e = x[wrap(t, -(r as isize), n)];
+        p0[t + 1] = p0[t] + e;
+        p1[t + 1] = p1[t] + t as f64 * e;
+    }
+    (0..n)
+        .map(|i| {
+            let c = i + r; // i's place in the extended line
+            let (lo, hi) = (c - r, c + r + 1);
+            let boxed = p0[hi] - p0[lo];
+            // sum of |t - c| e[t] over [lo, hi): right half minus c times its sum, and the mirror on the left.
+            let right = (p1[hi] - p1[c + 1]) - c as f64 * (p0[hi] - p0[c + 1]);
+            let left = c as f64 * (p0[c] - p0[lo]) - (p1[c] - p1[lo]);
+            ((radius + 1.0) * boxed - right - left) / total
         })
-    };
-    pass(&pass(img, 1, 0), 0, 1)
+        .collect()
 }
 
 /// Index `i + k` taken modulo `n`.
@@ -263,6 +296,26 @@ fn check<T: PartialOrd + Display>(name: &str, value: T, lo: T, hi: T) -> Result<
 
 #[cfg(test)]
 mod tests {
+
+    /// The prefix-sum tent equals the direct weighted sum, for fractional radii and radii beyond the line.
+    #[test]
+    fn periodic_tent_matches_the_direct_sum() {
+        let x: Vec<f64> = (0..23).map(|i| ((i * 37 % 11) as f64).sin()).collect();
+        for radius in [0.0, 0.4, 1.0, 2.5, 7.0, 30.0] {
+            let got = periodic_tent(&x, radius);
+            let reach = radius.ceil() as isize;
+            for (i, g) in got.iter().enumerate() {
+                let (mut sum, mut total) = (0.0, 0.0);
+                for k in -reach..=reach {
+                    let w = radius + 1.0 - k.abs() as f64;
+                    sum += w * x[wrap(i, k, x.len())];
+                    total += w;
+                }
+                assert!((g - sum / total).abs() < 1e-9, "radius {radius} at {i}: {g} vs {}", sum / total);
+            }
+        }
+    }
+
     use super::*;
 
     /// Over every row and column, how much the step across the wrap-around seam (last texel to

@@ -1,6 +1,6 @@
 //! Object transforms: scale, then rotate about x, y, z (degrees, in that order), then translate.
 
-use glam::{Affine3A, Mat3, Quat, Vec3};
+use glam::{Affine3A, Quat, Vec3};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Transform {
@@ -25,10 +25,5 @@ impl Transform {
     /// Object to world.
     pub fn matrix(&self) -> Affine3A {
         Affine3A::from_scale_rotation_translation(self.scale, self.rotation(), self.translate)
-    }
-
-    /// The matrix that carries object-space normals to world space (inverse transpose of the linear part).
-    pub fn normal_matrix(&self) -> Mat3 {
-        Mat3::from(self.matrix().matrix3).inverse().transpose()
     }
 }

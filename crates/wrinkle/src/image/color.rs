@@ -30,8 +30,8 @@ pub fn srgb8_decode_table() -> [f32; 256] {
     t
 }
 
-/// Fast linear -> 8-bit sRGB encoder: a 4096-entry table over [0,1] in linear light,
-/// refined at the dark end where sRGB is steepest, so every result is within one code of the exact one.
+/// Fast linear -> 8-bit sRGB encoder: a 16384-entry table over [0,1] in linear light, fine enough at the dark
+/// end (where sRGB is steepest) that every result is within one code of the exact one.
 pub struct SrgbEncoder {
     table: Vec<u8>,
 }

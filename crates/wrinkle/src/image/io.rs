@@ -18,6 +18,9 @@ use crate::error::{Error, Result};
 
 /// The largest width or height accepted when reading or writing an image.
 pub const MAX_SIDE: usize = 32768;
+/// The most pixels an image may have (16384 x 16384), so that a small file claiming a huge size cannot
+/// make a reader allocate many gigabytes.
+pub const MAX_PIXELS: usize = 16384 * 16384;
 
 const NOT_SUPPORTED: &str = "not a supported image (expected PNG, JPEG, BMP, TGA or TIFF)";
 
@@ -167,6 +170,8 @@ fn check_size(width: usize, height: usize) -> std::result::Result<(), String> {
         Err(format!("image is {width}x{height}, it has no pixels"))
     } else if width > MAX_SIDE || height > MAX_SIDE {
         Err(format!("image is {width}x{height} pixels, larger than the {MAX_SIDE} limit"))
+    } else if width * height > MAX_PIXELS {
+        Err(format!("image is {width}x{height} pixels, more than the {MAX_PIXELS} pixel limit (16384 x 16384)"))
     } else {
         Ok(())
     }

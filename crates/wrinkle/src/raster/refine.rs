@@ -2,8 +2,8 @@
 //! so the exact point P(u,v) it names sits up to the triangles' sag away from the pixel's ray. One Newton
 //! step on  screen(P(u,v)) = sample position  moves (u,v) onto the ray: the error falls from the sag
 //! (a fraction of a pixel) to its square over the surface's radius of curvature (thousandths of a pixel).
-//! The frame at the refined (u,v) comes from the second-order Taylor expansion of the one already evaluated:
-//! the step is a fraction of a pixel, so what that leaves out is far below f32 precision of the result.
+//! For the usual short step the frame at the refined (u,v) comes from the second-order Taylor expansion of
+//! the one already evaluated (what that leaves out is below f32 precision); longer steps evaluate it again.
 
 use super::camera::Camera;
 use crate::geometry::{Surface, SurfaceFrame};
@@ -41,7 +41,9 @@ pub fn refine_uv(
     // The usual step is a few hundredths of a segment, where the expansion is exact to f32 precision;
     // longer ones (towards grazing views) evaluate the surface again.
     let frame = if step.x.abs() < TAYLOR_STEP * max_step.x && step.y.abs() < TAYLOR_STEP * max_step.y {
-        frame.advanced(refined.x - uv.x, refined.y - uv.y)
+        // Across a seam the wrapped coordinate jumps by one period; the surface moved by the step itself.
+        let taken = |wraps: bool, from: f32, to: f32, step: f32| if wraps { step } else { to - from };
+        frame.advanced(taken(wrap_u, uv.x, refined.x, step.x), taken(wrap_v, uv.y, refined.y, step.y))
     } else {
         surface.frame(refined.x, refined.y)
     };
@@ -82,6 +84,31 @@ mod tests {
             assert!(before > 0.2, "{before}");
             assert!(after < 2e-3 && after < before * 0.01, "{before} px -> {after} px");
             assert!((refined - Vec2::new(u, v)).length() < 1e-4);
+        }
+    }
+
+    /// A step across the sphere's seam (u = 1 beside u = 0) wraps u and still lands on the ray.
+    #[test]
+    fn steps_across_the_seam() {
+        // Looking at the seam (+x side of the sphere) from an angle.
+        let camera = Camera::new(
+            Vec3::new(4.0, 0.5, 1.5),
+            Vec3::ZERO,
+            Vec3::Y,
+            Projection::Perspective { fov_y: 40.0 },
+            400,
+            300,
+        );
+        let sphere = Surface::Sphere { radius: 1.0 };
+        let to_cam = camera.world_to_camera;
+        for &(start_u, true_u) in &[(0.9998, 0.0003), (0.0002, 0.9997)] {
+            let (target, _) = camera.project(to_cam.transform_point3(sphere.position(true_u, 0.52)));
+            let (refined, frame) =
+                refine_uv(&camera, &sphere, &to_cam, Vec2::new(start_u, 0.5201), target, Vec2::splat(0.05));
+            let (got, _) = camera.project(to_cam.transform_point3(frame.p));
+            assert!((got - target).length() < 2e-3, "{got} vs {target}");
+            assert!((refined.x - true_u).abs() < 1e-4 && (0.0..1.0).contains(&refined.x), "{refined}");
+            assert!((frame.p - sphere.position(refined.x, refined.y)).length() < 1e-5);
         }
     }
 }

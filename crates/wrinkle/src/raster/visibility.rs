@@ -45,6 +45,8 @@ pub struct VisBuffer {
     pub spp: usize,
     pub depth: Vec<f32>,
     pub triangle: Vec<u32>,
+    /// Filled as the samples are shaded; kept for picking (the item buffer of 3D painting), not read by the
+    /// renderer itself.
     pub object: Vec<u32>,
     pub bary: Vec<[f32; 2]>,
 }

@@ -18,7 +18,7 @@ impl Aovs {
     }
 }
 
-/// Time of each stage of one frame, milliseconds (raster and shade are summed over tiles in parallel, wall time).
+/// Wall time of each stage of one frame, milliseconds (raster, shade and resolve run together, in parallel).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Stats {
     pub tessellate_ms: f64,
@@ -28,24 +28,18 @@ pub struct Stats {
     pub triangles: usize,
 }
 
-impl Stats {
-    pub fn total_ms(&self) -> f64 {
-        self.tessellate_ms + self.setup_ms + self.bin_ms + self.raster_shade_ms
-    }
-}
-
 pub struct Frame {
     pub width: usize,
     pub height: usize,
     /// Linear RGB, row 0 at the top.
     pub color: Vec<[f32; 3]>,
-    /// Unit shading normal N' in world space (mean of the pixel's covered samples).
+    /// Unit shading normal N' in world space (the mean of the pixel's covered samples, made unit).
     pub normal: Option<Vec<[f32; 3]>>,
     /// (u,v) before replication.
     pub uv: Option<Vec<[f32; 2]>>,
     /// Distance from the eye.
     pub depth: Option<Vec<f32>>,
-    /// The object's index in the scene file.
+    /// The index in the scene file of the object that covers most of the pixel's samples.
     pub id: Option<Vec<f32>>,
     pub stats: Stats,
 }
@@ -87,23 +81,40 @@ impl Frame {
     }
 }
 
-/// The sum of a pixel's covered samples, for the AOVs.
+/// The covered samples of one pixel, for the AOVs.
 #[derive(Default)]
 pub(super) struct AovSample {
     count: u32,
     normal: Vec3,
     uv: Vec2,
     depth: f32,
-    id: f32,
+    /// (object, samples) of the objects seen, so the pixel's id is one of them, not a blend of two.
+    objects: Vec<(u32, u32)>,
 }
 
 impl AovSample {
+    pub fn clear(&mut self) {
+        self.count = 0;
+        self.normal = Vec3::ZERO;
+        self.uv = Vec2::ZERO;
+        self.depth = 0.0;
+        self.objects.clear();
+    }
+
     pub fn add(&mut self, s: &ShadedSample, uv: Vec2, object: u32) {
         self.count += 1;
         self.normal += s.normal;
         self.uv += uv;
         self.depth += s.depth;
-        self.id += object as f32;
+        match self.objects.iter_mut().find(|(o, _)| *o == object) {
+            Some((_, n)) => *n += 1,
+            None => self.objects.push((object, 1)),
+        }
+    }
+
+    /// The object covering most of the pixel's samples (the lower index on a tie).
+    fn object(&self) -> u32 {
+        self.objects.iter().max_by_key(|&&(o, n)| (n, std::cmp::Reverse(o))).map_or(0, |&(o, _)| o)
     }
 }
 
@@ -128,14 +139,15 @@ impl AovBand {
         }
     }
 
-    /// Stores the mean of the pixel's covered samples (NaN stays where none was covered).
+    /// Stores the pixel's AOVs from its covered samples (NaN stays where none was covered): the mean uv and
+    /// depth, the mean normal made unit again, and the id of the object that covers most samples.
     pub fn set(&mut self, i: usize, s: &AovSample) {
         if s.count == 0 {
             return;
         }
         let k = 1.0 / s.count as f32;
         if self.kinds.normal {
-            self.normal[i] = (s.normal * k).to_array();
+            self.normal[i] = s.normal.normalize_or_zero().to_array();
         }
         if self.kinds.uv {
             self.uv[i] = (s.uv * k).to_array();
@@ -144,7 +156,7 @@ impl AovBand {
             self.depth[i] = s.depth * k;
         }
         if self.kinds.id {
-            self.id[i] = s.id * k;
+            self.id[i] = s.object() as f32;
         }
     }
 }

@@ -20,6 +20,8 @@ use std::time::Instant;
 
 /// The largest image side accepted.
 pub const MAX_SIDE: usize = 16384;
+/// The most pixels a frame may have: 8192 x 8192 (with every AOV about 3 GB).
+pub const MAX_PIXELS: usize = 8192 * 8192;
 
 /// The longest a tessellation segment may be on screen, in pixels.
 const SEGMENT_PX: f32 = 16.0;
@@ -63,6 +65,12 @@ impl RenderOptions {
             if v == 0 || v > MAX_SIDE {
                 return Err(Error::Invalid(format!("--{name} must be between 1 and {MAX_SIDE}, got {v}")));
             }
+        }
+        if self.width * self.height > MAX_PIXELS {
+            return Err(Error::Invalid(format!(
+                "{}x{} is more than {MAX_PIXELS} pixels (8192 x 8192); render it in parts",
+                self.width, self.height
+            )));
         }
         if SamplePattern::new(self.spp).is_none() {
             return Err(Error::Invalid(format!("--spp must be 1, 4 or 16, got {}", self.spp)));
@@ -264,10 +272,11 @@ impl TileJob<'_> {
         vis.render_tile(self.bins, tile, (w, h), self.triangles, self.pattern);
         let spp = vis.spp;
         let inv_spp = 1.0 / spp as f32;
+        let mut acc = frame::AovSample::default();
         for y in 0..vis.height {
             for x in 0..vis.width {
                 let mut sum = Vec3::ZERO;
-                let mut acc = frame::AovSample::default();
+                acc.clear();
                 for s in 0..spp {
                     let k = (y * vis.width + x) * spp + s;
                     let t = vis.triangle[k];

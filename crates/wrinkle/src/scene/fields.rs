@@ -50,6 +50,14 @@ impl<'a> Fields<'a> {
         Error::scene(self.at(key), message)
     }
 
+    /// A table whose fields depend on its kind: any of `fields` present but not in `allowed` is an error.
+    pub fn only_of_kind(&self, fields: &[&str], allowed: &[&str], kind: &str) -> Result<()> {
+        match fields.iter().find(|key| self.get(key).is_some() && !allowed.contains(key)) {
+            Some(key) => Err(self.error(key, format!("not a field of {kind} (it has: {})", allowed.join(", ")))),
+            None => Ok(()),
+        }
+    }
+
     pub fn required<T>(&self, key: &str, v: Option<T>) -> Result<T> {
         v.ok_or_else(|| self.error(key, "missing field"))
     }

@@ -191,14 +191,7 @@ fn parse_object(path: &str, v: &Value, base: &Path, material_index: usize) -> Re
             ))
         }
     };
-    for key in &SHAPE_FIELDS[3..] {
-        if f.get(key).is_some() && !allowed.contains(key) {
-            return Err(Error::scene(
-                f.at(key),
-                format!("not a field of shape \"{kind}\" (it has: {})", allowed.join(", ")),
-            ));
-        }
-    }
+    f.only_of_kind(&SHAPE_FIELDS[3..], allowed, &format!("shape \"{kind}\""))?;
     let len = |key: &str, default: f32| f.number_where(key, Some(default), positive, "a positive length");
     let shape = match kind {
         "sphere" => Shape::Surface(Surface::Sphere { radius: len("radius", 1.0)? }),
@@ -371,13 +364,8 @@ fn parse_generator(path: &str, v: &Value) -> Result<crate::image::GreyImage> {
         "bricks" => &["rows", "bricks_per_row", "mortar", "bevel"],
         _ => &[],
     };
-    for &key in &GENERATOR_FIELDS[2..] {
-        if f.get(key).is_some() && !own.contains(&key) && !own.is_empty() {
-            return Err(Error::scene(
-                f.at(key),
-                format!("not a parameter of kind \"{kind}\" (it has: {})", own.join(", ")),
-            ));
-        }
+    if !own.is_empty() {
+        f.only_of_kind(&GENERATOR_FIELDS[2..], own, &format!("generator kind \"{kind}\""))?;
     }
     let fraction = |x: f32| (0.0..=1.0).contains(&x);
     let generator = match kind {

@@ -45,8 +45,6 @@ pub struct ShadedSample {
     pub color: Vec3,
     /// The unit shading normal N' in world space, facing the eye for two-sided surfaces.
     pub normal: Vec3,
-    /// The point on the exact surface, world space.
-    pub position: Vec3,
     /// Distance from the eye (along the view axis for orthographic views: from the camera plane).
     pub depth: f32,
 }
@@ -84,7 +82,7 @@ impl ShadeContext<'_> {
         for light in self.lights {
             color += light.shade(position, n, v, albedo, &material.phong);
         }
-        ShadedSample { color, normal: n, position, depth }
+        ShadedSample { color, normal: n, depth }
     }
 }
 

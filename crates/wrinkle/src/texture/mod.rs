@@ -28,7 +28,7 @@ pub fn wrap01(x: f32) -> f32 {
 }
 
 /// The two texels around `s` (one period per unit, texel centres at (i + 0.5) / n, periodic) and the
-/// weight of the second: the bilinear taps along one axis. No division, no floor call: this runs per sample.
+/// weight of the second: the bilinear taps along one axis. No division and no modulo: this runs per sample.
 #[inline]
 pub fn bilinear_taps(s: f32, n: usize) -> (usize, usize, f32) {
     let x = wrap01(s) * n as f32 + 0.5;
