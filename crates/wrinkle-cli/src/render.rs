@@ -6,7 +6,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use wrinkle::render::Aovs;
 use wrinkle::shade::BumpFilter;
-use wrinkle::{render, Error, RenderOptions, Result, Scene};
+use wrinkle::{render_with_progress, Error, RenderOptions, Result, Scene};
 
 #[derive(Args, Debug)]
 #[command(
@@ -33,6 +33,9 @@ pub struct RenderArgs {
     #[arg(long)]
     pub stats: bool,
 }
+
+/// Frames with at least this many samples (about 2 s of work) show a progress bar.
+const LONG_FRAME_SAMPLES: usize = 32 << 20;
 
 /// The options shared by `render` and `bench`.
 #[derive(Args, Debug)]
@@ -126,7 +129,25 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     });
     for k in 0..args.frames {
         options.turntable_degrees = if args.turntable { 360.0 * k as f32 / args.frames as f32 } else { 0.0 };
-        let frame = render(&scene, &options)?;
+        // One long frame gets a bar of its own (bands of tiles); an animation has one over its frames.
+        let long = !animated && options.width * options.height * options.spp >= LONG_FRAME_SAMPLES;
+        let frame_bar = long.then(|| {
+            let bar = ProgressBar::new(0);
+            bar.set_style(
+                ProgressStyle::with_template("{bar:40} {percent}% of the frame  {elapsed} (eta {eta})")
+                    .expect("valid template"),
+            );
+            bar
+        });
+        let frame = render_with_progress(&scene, &options, &|done, total| {
+            if let Some(b) = &frame_bar {
+                b.set_length(total as u64);
+                b.set_position(done as u64);
+            }
+        })?;
+        if let Some(b) = frame_bar {
+            b.finish_and_clear();
+        }
         let out = if animated { numbered(&args.output, k) } else { args.output.clone() };
         let t = std::time::Instant::now();
         write_outputs(&out, &frame)?;

@@ -14,5 +14,5 @@ pub mod shade;
 pub mod texture;
 
 pub use error::{Error, Result};
-pub use render::{render, Frame, RenderOptions};
+pub use render::{render, render_with_progress, Frame, RenderOptions};
 pub use scene::Scene;

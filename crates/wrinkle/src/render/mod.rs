@@ -16,6 +16,7 @@ use crate::texture::Footprint;
 use crate::{Error, Result};
 use glam::{Affine3A, Mat3, Quat, Vec2, Vec3};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 /// The largest image side accepted.
@@ -84,6 +85,15 @@ impl RenderOptions {
 
 /// Renders one frame of the scene.
 pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Frame> {
+    render_with_progress(scene, options, &|_, _| {})
+}
+
+/// Renders one frame, calling `progress(done, total)` from the worker threads as bands of tiles finish.
+pub fn render_with_progress(
+    scene: &Scene,
+    options: &RenderOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Frame> {
     options.validate()?;
     let mut stats = Stats::default();
     let (w, h) = (options.width, options.height);
@@ -142,6 +152,7 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Frame> {
         background: cam.background,
         aovs: options.aovs,
     };
+    let (bands_done, bands) = (AtomicUsize::new(0), bins.tiles_y);
     let band_aovs: Vec<frame::AovBand> = frame
         .color
         .par_chunks_mut(band_len)
@@ -153,6 +164,7 @@ pub fn render(scene: &Scene, options: &RenderOptions) -> Result<Frame> {
                 for tx in 0..bins.tiles_x {
                     job.tile(vis, (tx, ty), color, &mut aov, w, h);
                 }
+                progress(bands_done.fetch_add(1, Ordering::Relaxed) + 1, bands);
                 aov
             },
         )
