@@ -59,26 +59,26 @@ mod tests {
     use crate::raster::Projection;
     use glam::Vec3;
 
+    /// A 400x300 perspective view of the origin from `eye`, and the screen position of a world point.
+    fn view_from(eye: Vec3) -> (Camera, impl Fn(Vec3) -> Vec2) {
+        let camera = Camera::new(eye, Vec3::ZERO, Vec3::Y, Projection::Perspective { fov_y: 40.0 }, 400, 300);
+        let view = camera.clone();
+        (camera, move |p: Vec3| view.project(view.world_to_camera.transform_point3(p)).0)
+    }
+
     /// The refined point projects onto the sample position, to a small fraction of the initial error.
     #[test]
     fn one_step_lands_on_the_ray() {
-        let camera = Camera::new(
-            Vec3::new(0.3, 0.2, 4.0),
-            Vec3::ZERO,
-            Vec3::Y,
-            Projection::Perspective { fov_y: 40.0 },
-            400,
-            300,
-        );
+        let (camera, screen_of) = view_from(Vec3::new(0.3, 0.2, 4.0));
         let sphere = Surface::Sphere { radius: 1.0 };
         let to_cam = camera.world_to_camera;
         for &(u, v) in &[(0.7, 0.5), (0.8, 0.62), (0.66, 0.3)] {
             // The true point's screen position, and a (u,v) nudged off it by about half a pixel's worth.
-            let (target, _) = camera.project(to_cam.transform_point3(sphere.position(u, v)));
+            let target = screen_of(sphere.position(u, v));
             let start = Vec2::new(u + 0.0006, v - 0.0004);
-            let (start_screen, _) = camera.project(to_cam.transform_point3(sphere.position(start.x, start.y)));
+            let start_screen = screen_of(sphere.position(start.x, start.y));
             let (refined, frame) = refine_uv(&camera, &sphere, &to_cam, start, target, Vec2::splat(0.05));
-            let (got, _) = camera.project(to_cam.transform_point3(frame.p));
+            let got = screen_of(frame.p);
             let before = (start_screen - target).length();
             let after = (got - target).length();
             assert!(before > 0.2, "{before}");
@@ -91,21 +91,14 @@ mod tests {
     #[test]
     fn steps_across_the_seam() {
         // Looking at the seam (+x side of the sphere) from an angle.
-        let camera = Camera::new(
-            Vec3::new(4.0, 0.5, 1.5),
-            Vec3::ZERO,
-            Vec3::Y,
-            Projection::Perspective { fov_y: 40.0 },
-            400,
-            300,
-        );
+        let (camera, screen_of) = view_from(Vec3::new(4.0, 0.5, 1.5));
         let sphere = Surface::Sphere { radius: 1.0 };
         let to_cam = camera.world_to_camera;
         for &(start_u, true_u) in &[(0.9998, 0.0003), (0.0002, 0.9997)] {
-            let (target, _) = camera.project(to_cam.transform_point3(sphere.position(true_u, 0.52)));
+            let target = screen_of(sphere.position(true_u, 0.52));
             let (refined, frame) =
                 refine_uv(&camera, &sphere, &to_cam, Vec2::new(start_u, 0.5201), target, Vec2::splat(0.05));
-            let (got, _) = camera.project(to_cam.transform_point3(frame.p));
+            let got = screen_of(frame.p);
             assert!((got - target).length() < 2e-3, "{got} vs {target}");
             assert!((refined.x - true_u).abs() < 1e-4 && (0.0..1.0).contains(&refined.x), "{refined}");
             assert!((frame.p - sphere.position(refined.x, refined.y)).length() < 1e-5);
