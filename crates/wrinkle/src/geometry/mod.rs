@@ -1,6 +1,7 @@
 //! Geometry: parametric surfaces evaluated exactly, object transforms, and tessellation into triangles
 //! that carry (u,v) so the rasterizer can find which (u,v) lands in each pixel.
 
+pub mod frame_lanes;
 pub mod surface;
 pub mod tessellate;
 pub mod transform;

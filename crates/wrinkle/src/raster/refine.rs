@@ -5,49 +5,90 @@
 //! For the usual short step the frame at the refined (u,v) comes from the second-order Taylor expansion of
 //! the one already evaluated (what that leaves out is below f32 precision); longer steps evaluate it again.
 
-use super::camera::Camera;
-use crate::geometry::{Surface, SurfaceFrame};
+use super::camera::{Camera, Projection};
+use crate::geometry::frame_lanes::Frame8;
+use crate::geometry::Surface;
+use crate::lanes::{CmpLt, F8, LANES, V3};
 use glam::{Affine3A, Vec2};
 
-/// Refines `uv` so that the exact surface point lies on the ray through `screen`, and returns it with the
-/// surface frame there. Steps longer than `max_step` (about one tessellation segment) are not taken: they
-/// happen only where the ray grazes the surface or misses it, and there the interpolated (u,v) is kept.
+/// Refines eight (u,v) so that each exact surface point lies on the ray through its screen position, and
+/// returns them with the surface frames there. Steps longer than `max_step` (about one tessellation segment)
+/// are not taken: they happen only where the ray grazes the surface or misses it, and there the interpolated
+/// (u,v) is kept.
 #[inline]
-pub fn refine_uv(
+pub fn refine_uv8(
     camera: &Camera,
     surface: &Surface,
     object_to_camera: &Affine3A,
-    uv: Vec2,
-    screen: Vec2,
+    uv: (F8, F8),
+    screen: (F8, F8),
     max_step: Vec2,
-) -> (Vec2, SurfaceFrame) {
-    let frame = surface.frame(uv.x, uv.y);
-    let p = object_to_camera.transform_point3(frame.p);
-    let (s, _) = camera.project(p);
-    let su = camera.project_derivative(p, object_to_camera.transform_vector3(frame.pu));
-    let sv = camera.project_derivative(p, object_to_camera.transform_vector3(frame.pv));
-    let r = screen - s;
-    let det = su.x * sv.y - su.y * sv.x;
-    if det.abs() < 1e-12 {
-        return (uv, frame);
-    }
-    let step = Vec2::new(r.x * sv.y - r.y * sv.x, su.x * r.y - su.y * r.x) / det;
-    if step.x.abs() > max_step.x || step.y.abs() > max_step.y || !step.is_finite() {
-        return (uv, frame);
-    }
+) -> ((F8, F8), Frame8) {
+    let (u, v) = uv;
+    let frame = surface.frame8(u, v);
+    let p = V3::transform_point(object_to_camera, frame.p);
+    let (sx, sy) = project8(camera, p);
+    let su = project_derivative8(camera, p, V3::transform_vector(object_to_camera, frame.pu));
+    let sv = project_derivative8(camera, p, V3::transform_vector(object_to_camera, frame.pv));
+    let (rx, ry) = (screen.0 - sx, screen.1 - sy);
+    let det = su.0 * sv.1 - su.1 * sv.0;
+    let inv_det = F8::ONE / det;
+    let step_u = (rx * sv.1 - ry * sv.0) * inv_det;
+    let step_v = (su.0 * ry - su.1 * rx) * inv_det;
+    let max = (F8::splat(max_step.x), F8::splat(max_step.y));
+    let taken = F8::splat(1e-12).cmp_lt(det.abs())
+        & step_u.is_finite()
+        & step_v.is_finite()
+        & !max.0.cmp_lt(step_u.abs())
+        & !max.1.cmp_lt(step_v.abs());
+    let (step_u, step_v) = (taken.blend(step_u, F8::ZERO), taken.blend(step_v, F8::ZERO));
     let (wrap_u, wrap_v) = surface.wraps();
-    let settle = |x: f32, wraps: bool| if wraps { x - x.floor() } else { x.clamp(0.0, 1.0) };
-    let refined = Vec2::new(settle(uv.x + step.x, wrap_u), settle(uv.y + step.y, wrap_v));
+    let settle = |x: F8, wraps: bool| if wraps { x - x.floor() } else { x.max(F8::ZERO).min(F8::ONE) };
+    let refined = (taken.blend(settle(u + step_u, wrap_u), u), taken.blend(settle(v + step_v, wrap_v), v));
+    // Across a seam the wrapped coordinate jumps by one period; the surface moved by the step itself.
+    let moved = |wraps: bool, from: F8, to: F8, step: F8| if wraps { step } else { to - from };
+    let mut out = frame.advanced(moved(wrap_u, u, refined.0, step_u), moved(wrap_v, v, refined.1, step_v));
     // The usual step is a few hundredths of a segment, where the expansion is exact to f32 precision;
     // longer ones (towards grazing views) evaluate the surface again.
-    let frame = if step.x.abs() < TAYLOR_STEP * max_step.x && step.y.abs() < TAYLOR_STEP * max_step.y {
-        // Across a seam the wrapped coordinate jumps by one period; the surface moved by the step itself.
-        let taken = |wraps: bool, from: f32, to: f32, step: f32| if wraps { step } else { to - from };
-        frame.advanced(taken(wrap_u, uv.x, refined.x, step.x), taken(wrap_v, uv.y, refined.y, step.y))
-    } else {
-        surface.frame(refined.x, refined.y)
-    };
-    (refined, frame)
+    let short = step_u.abs().cmp_lt(max.0 * F8::splat(TAYLOR_STEP))
+        & step_v.abs().cmp_lt(max.1 * F8::splat(TAYLOR_STEP));
+    let long = short.move_mask() ^ 0xff;
+    if long != 0 {
+        let (ru, rv) = (refined.0.as_array_ref(), refined.1.as_array_ref());
+        for i in (0..LANES).filter(|i| long & (1 << i) != 0) {
+            out.set_lane(i, &surface.frame(ru[i], rv[i]));
+        }
+    }
+    (refined, out)
+}
+
+/// Screen positions of eight camera-space points (Camera::project on every lane).
+#[inline]
+fn project8(camera: &Camera, p: V3) -> (F8, F8) {
+    let (cx, cy) = (F8::splat(0.5 * camera.width as f32), F8::splat(0.5 * camera.height as f32));
+    let k = F8::splat(camera.scale);
+    match camera.projection {
+        Projection::Perspective { .. } => {
+            let q = k / -p.z;
+            (cx + p.x * q, cy - p.y * q)
+        }
+        Projection::Orthographic { .. } => (cx + p.x * k, cy - p.y * k),
+    }
+}
+
+/// Camera::project_derivative on every lane.
+#[inline]
+fn project_derivative8(camera: &Camera, p: V3, d: V3) -> (F8, F8) {
+    let k = F8::splat(camera.scale);
+    match camera.projection {
+        Projection::Perspective { .. } => {
+            let inv_w = F8::ONE / -p.z;
+            let (x_w, y_w) = (p.x * inv_w, p.y * inv_w);
+            let kw = k * inv_w;
+            (x_w.mul_add(d.z, d.x) * kw, -(y_w.mul_add(d.z, d.y) * kw))
+        }
+        Projection::Orthographic { .. } => (d.x * k, -d.y * k),
+    }
 }
 
 /// The largest step, as a fraction of a tessellation segment, taken by Taylor expansion of the frame.
@@ -56,8 +97,22 @@ const TAYLOR_STEP: f32 = 0.05;
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::raster::Projection;
+    use crate::geometry::SurfaceFrame;
     use glam::Vec3;
+
+    /// One (u,v) refined in every lane; lane 3 is read back (all lanes agree).
+    fn refine_one(
+        camera: &Camera,
+        surface: &Surface,
+        to_cam: &Affine3A,
+        uv: Vec2,
+        screen: Vec2,
+        max_step: Vec2,
+    ) -> (Vec2, SurfaceFrame) {
+        let s = |x: f32| F8::splat(x);
+        let ((u, v), frame) = refine_uv8(camera, surface, to_cam, (s(uv.x), s(uv.y)), (s(screen.x), s(screen.y)), max_step);
+        (Vec2::new(u.as_array_ref()[3], v.as_array_ref()[3]), frame.lane(3))
+    }
 
     /// A 400x300 perspective view of the origin from `eye`, and the screen position of a world point.
     fn view_from(eye: Vec3) -> (Camera, impl Fn(Vec3) -> Vec2) {
@@ -77,7 +132,7 @@ mod tests {
             let target = screen_of(sphere.position(u, v));
             let start = Vec2::new(u + 0.0006, v - 0.0004);
             let start_screen = screen_of(sphere.position(start.x, start.y));
-            let (refined, frame) = refine_uv(&camera, &sphere, &to_cam, start, target, Vec2::splat(0.05));
+            let (refined, frame) = refine_one(&camera, &sphere, &to_cam, start, target, Vec2::splat(0.05));
             let got = screen_of(frame.p);
             let before = (start_screen - target).length();
             let after = (got - target).length();
@@ -97,7 +152,7 @@ mod tests {
         for &(start_u, true_u) in &[(0.9998, 0.0003), (0.0002, 0.9997)] {
             let target = screen_of(sphere.position(true_u, 0.52));
             let (refined, frame) =
-                refine_uv(&camera, &sphere, &to_cam, Vec2::new(start_u, 0.5201), target, Vec2::splat(0.05));
+                refine_one(&camera, &sphere, &to_cam, Vec2::new(start_u, 0.5201), target, Vec2::splat(0.05));
             let got = screen_of(frame.p);
             assert!((got - target).length() < 2e-3, "{got} vs {target}");
             assert!((refined.x - true_u).abs() < 1e-4 && (0.0..1.0).contains(&refined.x), "{refined}");

@@ -6,12 +6,13 @@ mod frame;
 pub use frame::{Aovs, Frame, Stats};
 
 use crate::geometry::tessellate::{grid, segments_for, Mesh};
-use crate::raster::refine::refine_uv;
+use crate::lanes::{F8, LANES};
+use crate::raster::refine::refine_uv8;
 use crate::raster::setup::ProjectedVertex;
 use crate::raster::visibility::EMPTY;
 use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
 use crate::scene::Scene;
-use crate::shade::{BumpFilter, ShadeContext, SurfaceInstance};
+use crate::shade::{BumpFilter, ShadeContext, ShadedSample, SurfaceInstance};
 use crate::texture::Footprint;
 use crate::{Error, Result};
 use glam::{Affine3A, Mat3, Quat, Vec2, Vec3};
@@ -158,11 +159,11 @@ pub fn render_with_progress(
         .par_chunks_mut(band_len)
         .enumerate()
         .map_init(
-            || VisBuffer::new(tile_size, options.spp),
-            |vis, (ty, color)| {
+            || (VisBuffer::new(tile_size, options.spp), Vec::new()),
+            |(vis, shaded), (ty, color)| {
                 let mut aov = frame::AovBand::new(options.aovs, color.len());
                 for tx in 0..bins.tiles_x {
-                    job.tile(vis, (tx, ty), color, &mut aov, w, h);
+                    job.tile(vis, shaded, (tx, ty), color, &mut aov, w, h);
                 }
                 progress(bands_done.fetch_add(1, Ordering::Relaxed) + 1, bands);
                 aov
@@ -266,6 +267,7 @@ impl TileJob<'_> {
     fn tile(
         &self,
         vis: &mut VisBuffer,
+        shaded: &mut Vec<Shaded>,
         tile: (usize, usize),
         band: &mut [[f32; 3]],
         aov: &mut frame::AovBand,
@@ -282,7 +284,35 @@ impl TileJob<'_> {
             return;
         }
         vis.render_tile(self.bins, tile, (w, h), self.triangles, self.pattern);
+        // Shade every covered sample, eight of one surface at a time, into the tile's sample buffer.
         let spp = vis.spp;
+        let n = vis.width * vis.height * spp;
+        shaded.clear();
+        shaded.resize(n, Shaded::default());
+        let mut packet = Packet::default();
+        for y in 0..vis.height {
+            for x in 0..vis.width {
+                for s in 0..spp {
+                    let k = (y * vis.width + x) * spp + s;
+                    let t = vis.triangle[k];
+                    if t == EMPTY {
+                        continue;
+                    }
+                    let surface = self.triangles[t as usize].surface;
+                    if packet.len > 0 && packet.surface != surface {
+                        self.shade_packet(vis, &mut packet, shaded);
+                    }
+                    packet.push(surface, k, t, vis.sample_position(x, y, s, self.pattern));
+                    if packet.len == LANES {
+                        self.shade_packet(vis, &mut packet, shaded);
+                    }
+                }
+            }
+        }
+        if packet.len > 0 {
+            self.shade_packet(vis, &mut packet, shaded);
+        }
+        // Resolve: the box filter over each pixel's samples.
         let inv_spp = 1.0 / spp as f32;
         let mut acc = frame::AovSample::default();
         for y in 0..vis.height {
@@ -291,24 +321,14 @@ impl TileJob<'_> {
                 acc.clear();
                 for s in 0..spp {
                     let k = (y * vis.width + x) * spp + s;
-                    let t = vis.triangle[k];
-                    if t == EMPTY {
+                    if vis.triangle[k] == EMPTY {
                         sum += self.background;
                         continue;
                     }
-                    let tri = &self.triangles[t as usize];
-                    let inst = &self.instances[tri.surface as usize];
-                    let screen = vis.sample_position(x, y, s, self.pattern);
-                    let at = vis.resolve(k, tri, inst.object, screen);
-                    let [dudx, dvdx, dudy, dvdy] = at.duv;
-                    let footprint = Footprint { dudx, dvdx, dudy, dvdy };
-                    let max_step = self.max_steps[tri.surface as usize];
-                    let (uv, surface_frame) =
-                        refine_uv(self.camera, &inst.surface, &inst.object_to_camera, at.uv, screen, max_step);
-                    let shaded = self.shade.shade(inst, uv, &surface_frame, &footprint);
-                    sum += shaded.color;
+                    let sample = &shaded[k];
+                    sum += sample.shaded.color;
                     if self.aovs.any() {
-                        acc.add(&shaded, uv, inst.object);
+                        acc.add(&sample.shaded, sample.uv, sample.object);
                     }
                 }
                 let i = (y * w) + vis.x0 + x;
@@ -319,4 +339,62 @@ impl TileJob<'_> {
             }
         }
     }
+
+    /// Interpolates, refines and shades the packet's samples, and empties it.
+    fn shade_packet(&self, vis: &mut VisBuffer, packet: &mut Packet, shaded: &mut [Shaded]) {
+        let inst = &self.instances[packet.surface as usize];
+        let mut footprints = [Footprint::default(); LANES];
+        let (mut u, mut v, mut sx, mut sy) = ([0.0; LANES], [0.0; LANES], [0.0; LANES], [0.0; LANES]);
+        for i in 0..LANES {
+            // Unused lanes repeat the first sample; their results are dropped.
+            let j = if i < packet.len { i } else { 0 };
+            let (k, screen) = (packet.samples[j], packet.screen[j]);
+            let at = vis.resolve(k, &self.triangles[packet.triangles[j] as usize], inst.object, screen);
+            let [dudx, dvdx, dudy, dvdy] = at.duv;
+            footprints[i] = Footprint { dudx, dvdx, dudy, dvdy };
+            (u[i], v[i], sx[i], sy[i]) = (at.uv.x, at.uv.y, screen.x, screen.y);
+        }
+        let max_step = self.max_steps[packet.surface as usize];
+        let (uv, surface_frame) = refine_uv8(
+            self.camera,
+            &inst.surface,
+            &inst.object_to_camera,
+            (F8::new(u), F8::new(v)),
+            (F8::new(sx), F8::new(sy)),
+            max_step,
+        );
+        let result = self.shade.shade8(inst, uv, &surface_frame, &footprints);
+        for i in 0..packet.len {
+            let uv = Vec2::new(uv.0.as_array_ref()[i], uv.1.as_array_ref()[i]);
+            shaded[packet.samples[i]] = Shaded { shaded: result.lane(i), uv, object: inst.object };
+        }
+        packet.len = 0;
+    }
+}
+
+/// Up to eight covered samples of one surface, waiting to be shaded together.
+#[derive(Default)]
+struct Packet {
+    surface: u32,
+    len: usize,
+    /// Index of each sample in the tile's buffers.
+    samples: [usize; LANES],
+    triangles: [u32; LANES],
+    screen: [Vec2; LANES],
+}
+
+impl Packet {
+    fn push(&mut self, surface: u32, k: usize, triangle: u32, screen: Vec2) {
+        self.surface = surface;
+        (self.samples[self.len], self.triangles[self.len], self.screen[self.len]) = (k, triangle, screen);
+        self.len += 1;
+    }
+}
+
+/// One shaded sample of a tile, kept until its pixel is resolved.
+#[derive(Clone, Copy, Default)]
+struct Shaded {
+    shaded: ShadedSample,
+    uv: Vec2,
+    object: u32,
 }

@@ -7,9 +7,11 @@ pub mod material;
 pub use light::{Light, Phong};
 pub use material::{Bump, BumpFilter, Material};
 
-use crate::bump::blinn::perturbed_normal;
-use crate::bump::Perturbation;
-use crate::geometry::{Surface, SurfaceFrame};
+use crate::bump::blinn::{blinn_d8, perturbed_normal};
+use crate::bump::{BumpFormula, Perturbation};
+use crate::geometry::frame_lanes::Frame8;
+use crate::geometry::Surface;
+use crate::lanes::{CmpLt, F8, LANES, V3};
 use crate::texture::Footprint;
 use glam::{Affine3A, Mat3, Vec2, Vec3};
 
@@ -49,40 +51,77 @@ pub struct ShadedSample {
     pub depth: f32,
 }
 
+/// Eight shaded samples (structure of arrays).
+pub struct ShadedPacket {
+    pub color: V3,
+    pub normal: V3,
+    pub depth: F8,
+}
+
+impl ShadedPacket {
+    pub fn lane(&self, i: usize) -> ShadedSample {
+        ShadedSample { color: self.color.lane(i), normal: self.normal.lane(i), depth: self.depth.as_array_ref()[i] }
+    }
+}
+
 impl ShadeContext<'_> {
-    /// Shades the surface point at `uv` (whose frame is `frame` and whose screen derivatives are `footprint`).
+    /// Shades eight points of one surface at `uv` (whose frames are `frame` and whose screen derivatives are
+    /// `footprints`). Table and texture lookups run lane by lane; everything else on all lanes at once.
     #[inline]
-    pub fn shade(&self, inst: &SurfaceInstance, uv: Vec2, frame: &SurfaceFrame, footprint: &Footprint) -> ShadedSample {
+    pub fn shade8(
+        &self,
+        inst: &SurfaceInstance,
+        uv: (F8, F8),
+        frame: &Frame8,
+        footprints: &[Footprint; LANES],
+    ) -> ShadedPacket {
         let material = &self.materials[inst.material];
+        let (us, vs) = (uv.0.as_array_ref(), uv.1.as_array_ref());
+        let uv_lane = |i: usize| Vec2::new(us[i], vs[i]);
         let n_geo = frame.pu.cross(frame.pv);
         let n_obj = match (&material.bump, self.bump_enabled) {
-            (Some(bump), true) => perturbed_normal(
-                frame,
-                bump.perturbation(uv, footprint, self.bump_filter.unwrap_or(bump.filter)),
-                bump.formula,
-            ),
+            (Some(bump), true) => {
+                let filter = self.bump_filter.unwrap_or(bump.filter);
+                let b: [Perturbation; LANES] =
+                    std::array::from_fn(|i| bump.perturbation(uv_lane(i), &footprints[i], filter));
+                match bump.formula {
+                    BumpFormula::Blinn => {
+                        let (fu, fv) = (F8::new(b.map(|b| b.fu)), F8::new(b.map(|b| b.fv)));
+                        n_geo + blinn_d8(n_geo, frame.pu, frame.pv, fu, fv)
+                    }
+                    formula => {
+                        V3::from_lanes(&std::array::from_fn(|i| perturbed_normal(&frame.lane(i), b[i], formula)))
+                    }
+                }
+            }
             _ => n_geo,
         };
-        let position = inst.object_to_world.transform_point3(frame.p);
-        let to_eye_vec = self.ortho_to_eye.map_or(self.eye - position, |d| d);
-        let depth = match self.ortho_to_eye {
-            Some(d) => (self.eye - position).dot(d),
-            None => to_eye_vec.length(),
+        let position = V3::transform_point(&inst.object_to_world, frame.p);
+        let (to_eye, depth) = match self.ortho_to_eye {
+            Some(d) => (V3::splat(d), (V3::splat(self.eye) - position).dot(V3::splat(d))),
+            None => {
+                let to_eye = V3::splat(self.eye) - position;
+                (to_eye, to_eye.length())
+            }
         };
-        let v = to_eye_vec.normalize_or_zero();
-        let mut n = (inst.normal_matrix * n_obj).normalize_or_zero();
-        if inst.two_sided && (inst.normal_matrix * n_geo).dot(v) < 0.0 {
-            n = -n;
+        let v = to_eye.normalize_or_zero();
+        let mut n = V3::mul_mat3(&inst.normal_matrix, n_obj).normalize_or_zero();
+        if inst.two_sided {
+            let back = V3::mul_mat3(&inst.normal_matrix, n_geo).dot(v).cmp_lt(F8::ZERO);
+            n = V3::select(back, -n, n);
         }
         let albedo = match &material.texture {
-            Some(t) => material.color * t.sample(uv, footprint).truncate(),
-            None => material.color,
+            Some(t) => {
+                V3::splat(material.color)
+                    * V3::from_lanes(&std::array::from_fn(|i| t.sample(uv_lane(i), &footprints[i]).truncate()))
+            }
+            None => V3::splat(material.color),
         };
-        let mut color = Vec3::ZERO;
+        let mut color = V3::ZERO;
         for light in self.lights {
-            color += light.shade(position, n, v, albedo, &material.phong);
+            color = color + light.shade8(position, n, v, albedo, &material.phong);
         }
-        ShadedSample { color, normal: n, depth }
+        ShadedPacket { color, normal: n, depth }
     }
 }
 

@@ -1,0 +1,174 @@
+//! Surface frames of eight (u,v) at once, for packet shading. The sphere, the usual case, is evaluated on
+//! all lanes together; the other surfaces lane by lane through their scalar frames.
+
+use super::surface::{Surface, SurfaceFrame};
+use crate::lanes::{CmpGe, CmpLe, F8, LANES, V3};
+use std::f32::consts::{PI, TAU};
+use wide::CmpEq;
+
+/// Eight surface frames, one per lane.
+#[derive(Clone, Copy, Debug)]
+pub struct Frame8 {
+    pub p: V3,
+    pub pu: V3,
+    pub pv: V3,
+    pub puu: V3,
+    pub puv: V3,
+    pub pvv: V3,
+}
+
+impl Frame8 {
+    pub fn from_lanes(f: &[SurfaceFrame; LANES]) -> Frame8 {
+        let field = |get: fn(&SurfaceFrame) -> glam::Vec3| V3::from_lanes(&std::array::from_fn(|i| get(&f[i])));
+        Frame8 {
+            p: field(|f| f.p),
+            pu: field(|f| f.pu),
+            pv: field(|f| f.pv),
+            puu: field(|f| f.puu),
+            puv: field(|f| f.puv),
+            pvv: field(|f| f.pvv),
+        }
+    }
+
+    pub fn lane(&self, i: usize) -> SurfaceFrame {
+        SurfaceFrame {
+            p: self.p.lane(i),
+            pu: self.pu.lane(i),
+            pv: self.pv.lane(i),
+            puu: self.puu.lane(i),
+            puv: self.puv.lane(i),
+            pvv: self.pvv.lane(i),
+        }
+    }
+
+    pub fn set_lane(&mut self, i: usize, f: &SurfaceFrame) {
+        self.p.set_lane(i, f.p);
+        self.pu.set_lane(i, f.pu);
+        self.pv.set_lane(i, f.pv);
+        self.puu.set_lane(i, f.puu);
+        self.puv.set_lane(i, f.puv);
+        self.pvv.set_lane(i, f.pvv);
+    }
+
+    /// SurfaceFrame::advanced on every lane.
+    #[inline]
+    pub fn advanced(&self, du: F8, dv: F8) -> Frame8 {
+        let half = F8::splat(0.5);
+        Frame8 {
+            p: self.p
+                + self.pu * du
+                + self.pv * dv
+                + (self.puu * (du * du) + self.pvv * (dv * dv)) * half
+                + self.puv * (du * dv),
+            pu: self.pu + self.puu * du + self.puv * dv,
+            pv: self.pv + self.puv * du + self.pvv * dv,
+            ..*self
+        }
+    }
+}
+
+impl Surface {
+    /// The frames at eight (u,v).
+    pub fn frame8(&self, u: F8, v: F8) -> Frame8 {
+        match *self {
+            Surface::Sphere { radius } => sphere8(radius, u, v),
+            _ => {
+                let (u, v) = (u.as_array_ref(), v.as_array_ref());
+                Frame8::from_lanes(&std::array::from_fn(|i| self.frame(u[i], v[i])))
+            }
+        }
+    }
+}
+
+/// sin_cos_turns on every lane: the same polynomial and octant reduction.
+#[inline]
+pub fn sin_cos_turns8(t: F8) -> (F8, F8) {
+    let x = t - t.round();
+    let q = (x * F8::splat(4.0)).round();
+    let a = F8::splat(TAU) * (x - F8::splat(0.25) * q);
+    let a2 = a * a;
+    let poly = |c: [f32; 4], first: f32| {
+        let mut p = F8::splat(c[3]);
+        for k in (0..3).rev() {
+            p = p.mul_add(a2, F8::splat(c[k]));
+        }
+        p.mul_add(a2, F8::splat(first))
+    };
+    let s = a * poly([-1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0, 1.0 / 362_880.0], 1.0);
+    let c = poly([-0.5, 1.0 / 24.0, -1.0 / 720.0, 1.0 / 40_320.0], 1.0);
+    // The quadrant q mod 4 (q is in -2..=2).
+    let quadrant = q - F8::splat(4.0) * (q * F8::splat(0.25)).floor();
+    let (q1, q2, q3) =
+        (quadrant.cmp_eq(F8::splat(1.0)), quadrant.cmp_eq(F8::splat(2.0)), quadrant.cmp_eq(F8::splat(3.0)));
+    let sin = q1.blend(c, q2.blend(-s, q3.blend(-c, s)));
+    let cos = q1.blend(-s, q2.blend(-c, q3.blend(s, c)));
+    (sin, cos)
+}
+
+fn sphere8(r: f32, u: F8, v: F8) -> Frame8 {
+    let (sp, cp) = sin_cos_turns8(u);
+    let (st, ct) = sin_cos_turns8(F8::splat(0.5) * (v - F8::splat(0.5)));
+    // Exact poles, as the scalar frame has them.
+    let (south, north) = (v.cmp_le(F8::ZERO), v.cmp_ge(F8::ONE));
+    let st = south.blend(F8::splat(-1.0), north.blend(F8::ONE, st));
+    let ct = (south | north).blend(F8::ZERO, ct);
+    let (a, b) = (TAU, PI);
+    let k = |s: f32| F8::splat(r * s);
+    let v3 = |x: F8, y: F8, z: F8| V3 { x, y, z };
+    let z = F8::ZERO;
+    Frame8 {
+        p: v3(ct * cp, st, -ct * sp) * k(1.0),
+        pu: v3(-sp, z, -cp) * (k(a) * ct),
+        pv: v3(-st * cp, ct, st * sp) * k(b),
+        puu: v3(-cp, z, sp) * (k(a * a) * ct),
+        puv: v3(sp, z, cp) * (k(a * b) * st),
+        pvv: v3(-ct * cp, -st, ct * sp) * k(b * b),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::surface::sin_cos_turns;
+    use glam::Vec3;
+
+    #[test]
+    fn lanes_match_the_scalar_frames() {
+        let surfaces = [
+            Surface::Sphere { radius: 1.3 },
+            Surface::Torus { major_radius: 1.0, minor_radius: 0.3 },
+            Surface::Patch { corners: [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.4), Vec3::Y] },
+        ];
+        // Every quadrant of both angles, the seam and both poles.
+        let u = F8::new([0.0, 0.13, 0.26, 0.49, 0.51, 0.74, 0.99, 1.0]);
+        let v = F8::new([0.0, 0.07, 0.3, 0.5, 0.62, 0.88, 0.97, 1.0]);
+        for s in &surfaces {
+            let f8 = s.frame8(u, v);
+            for i in 0..LANES {
+                let f = s.frame(u.as_array_ref()[i], v.as_array_ref()[i]);
+                let g = f8.lane(i);
+                for (a, b) in [(f.p, g.p), (f.pu, g.pu), (f.pv, g.pv), (f.puu, g.puu), (f.puv, g.puv), (f.pvv, g.pvv)] {
+                    assert!((a - b).length() <= 1e-5 * (1.0 + a.length()), "{s:?} lane {i}: {a} vs {b}");
+                }
+            }
+        }
+        let t = F8::new([-0.6, -0.3, -0.1, 0.0, 0.2, 0.4, 0.77, 1.3]);
+        let (s8, c8) = sin_cos_turns8(t);
+        for i in 0..LANES {
+            let (s, c) = sin_cos_turns(t.as_array_ref()[i]);
+            assert!((s - s8.as_array_ref()[i]).abs() < 1e-7 && (c - c8.as_array_ref()[i]).abs() < 1e-7);
+        }
+    }
+
+    #[test]
+    fn advanced_lanes_match_the_scalar_step() {
+        let s = Surface::Sphere { radius: 1.0 };
+        let f8 = s.frame8(F8::splat(0.3), F8::splat(0.6));
+        let (du, dv) = (F8::new([1e-3, -2e-3, 0.0, 5e-4, 1e-4, -1e-4, 3e-3, 0.0]), F8::splat(-7e-4));
+        let a8 = f8.advanced(du, dv);
+        for i in 0..LANES {
+            let a = s.frame(0.3, 0.6).advanced(du.as_array_ref()[i], dv.as_array_ref()[i]);
+            assert!((a.p - a8.lane(i).p).length() < 1e-6 && (a.pu - a8.lane(i).pu).length() < 1e-5);
+        }
+    }
+}

@@ -1,0 +1,162 @@
+//! Eight samples at a time: f32x8 lanes and 3-vectors of them (structure of arrays), for the shading of
+//! sample packets. Gathers (table and texture lookups) stay per lane; the arithmetic around them runs on
+//! all eight lanes at once.
+
+use glam::{Affine3A, Mat3, Vec3};
+use std::ops::{Add, Mul, Neg, Sub};
+pub use wide::{f32x8 as F8, CmpGe, CmpGt, CmpLe, CmpLt};
+
+/// The number of samples in a packet.
+pub const LANES: usize = 8;
+
+/// Eight 3-vectors, one per lane.
+#[derive(Clone, Copy, Debug)]
+pub struct V3 {
+    pub x: F8,
+    pub y: F8,
+    pub z: F8,
+}
+
+impl V3 {
+    pub const ZERO: V3 = V3 { x: F8::ZERO, y: F8::ZERO, z: F8::ZERO };
+
+    #[inline]
+    pub fn splat(v: Vec3) -> V3 {
+        V3 { x: F8::splat(v.x), y: F8::splat(v.y), z: F8::splat(v.z) }
+    }
+
+    /// The vectors of the lanes, lane 0 first.
+    #[inline]
+    pub fn from_lanes(v: &[Vec3; LANES]) -> V3 {
+        V3 {
+            x: F8::new(std::array::from_fn(|i| v[i].x)),
+            y: F8::new(std::array::from_fn(|i| v[i].y)),
+            z: F8::new(std::array::from_fn(|i| v[i].z)),
+        }
+    }
+
+    #[inline]
+    pub fn lane(&self, i: usize) -> Vec3 {
+        Vec3::new(self.x.as_array_ref()[i], self.y.as_array_ref()[i], self.z.as_array_ref()[i])
+    }
+
+    /// Replaces lane `i`.
+    #[inline]
+    pub fn set_lane(&mut self, i: usize, v: Vec3) {
+        self.x.as_array_mut()[i] = v.x;
+        self.y.as_array_mut()[i] = v.y;
+        self.z.as_array_mut()[i] = v.z;
+    }
+
+    #[inline]
+    pub fn dot(self, o: V3) -> F8 {
+        self.x.mul_add(o.x, self.y.mul_add(o.y, self.z * o.z))
+    }
+
+    #[inline]
+    pub fn cross(self, o: V3) -> V3 {
+        V3 { x: self.y * o.z - self.z * o.y, y: self.z * o.x - self.x * o.z, z: self.x * o.y - self.y * o.x }
+    }
+
+    #[inline]
+    pub fn length(self) -> F8 {
+        self.dot(self).sqrt()
+    }
+
+    /// The unit vector, or zero where the length is zero (as glam's normalize_or_zero).
+    #[inline]
+    pub fn normalize_or_zero(self) -> V3 {
+        let len = self.length();
+        let inv = len.cmp_gt(F8::ZERO).blend(F8::ONE / len, F8::ZERO);
+        self * inv
+    }
+
+    /// `mask` (all bits set per lane) picks `t`, else `f`.
+    #[inline]
+    pub fn select(mask: F8, t: V3, f: V3) -> V3 {
+        V3 { x: mask.blend(t.x, f.x), y: mask.blend(t.y, f.y), z: mask.blend(t.z, f.z) }
+    }
+
+    #[inline]
+    pub fn mul_mat3(m: &Mat3, v: V3) -> V3 {
+        let c = |k: Vec3| V3::splat(k);
+        c(m.x_axis) * v.x + c(m.y_axis) * v.y + c(m.z_axis) * v.z
+    }
+
+    #[inline]
+    pub fn transform_point(a: &Affine3A, p: V3) -> V3 {
+        V3::transform_vector(a, p) + V3::splat(a.translation.into())
+    }
+
+    #[inline]
+    pub fn transform_vector(a: &Affine3A, v: V3) -> V3 {
+        V3::mul_mat3(&Mat3::from(a.matrix3), v)
+    }
+}
+
+impl Add for V3 {
+    type Output = V3;
+    #[inline]
+    fn add(self, o: V3) -> V3 {
+        V3 { x: self.x + o.x, y: self.y + o.y, z: self.z + o.z }
+    }
+}
+
+impl Sub for V3 {
+    type Output = V3;
+    #[inline]
+    fn sub(self, o: V3) -> V3 {
+        V3 { x: self.x - o.x, y: self.y - o.y, z: self.z - o.z }
+    }
+}
+
+impl Neg for V3 {
+    type Output = V3;
+    #[inline]
+    fn neg(self) -> V3 {
+        V3 { x: -self.x, y: -self.y, z: -self.z }
+    }
+}
+
+impl Mul<F8> for V3 {
+    type Output = V3;
+    #[inline]
+    fn mul(self, k: F8) -> V3 {
+        V3 { x: self.x * k, y: self.y * k, z: self.z * k }
+    }
+}
+
+impl Mul<V3> for V3 {
+    type Output = V3;
+    /// Lane- and component-wise.
+    #[inline]
+    fn mul(self, o: V3) -> V3 {
+        V3 { x: self.x * o.x, y: self.y * o.y, z: self.z * o.z }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lanes_agree_with_glam() {
+        let a: [Vec3; LANES] = std::array::from_fn(|i| Vec3::new(i as f32 - 3.0, 0.5 * i as f32, 2.0 - i as f32 * 0.25));
+        let b: [Vec3; LANES] = std::array::from_fn(|i| Vec3::new(1.0, -(i as f32), 0.3 * i as f32));
+        let (va, vb) = (V3::from_lanes(&a), V3::from_lanes(&b));
+        let m = Affine3A::from_scale_rotation_translation(
+            Vec3::new(1.0, 2.0, -1.0),
+            glam::Quat::from_rotation_y(0.7),
+            Vec3::new(0.1, 0.2, 0.3),
+        );
+        let (dot, cross, unit, tp) =
+            (va.dot(vb), va.cross(vb), va.normalize_or_zero(), V3::transform_point(&m, va));
+        for i in 0..LANES {
+            assert!((dot.as_array_ref()[i] - a[i].dot(b[i])).abs() < 1e-5);
+            assert!((cross.lane(i) - a[i].cross(b[i])).length() < 1e-5);
+            assert!((unit.lane(i) - a[i].normalize_or_zero()).length() < 1e-6);
+            assert!((tp.lane(i) - m.transform_point3(a[i])).length() < 1e-5);
+        }
+        assert_eq!(V3::ZERO.normalize_or_zero().lane(0), Vec3::ZERO);
+    }
+}
