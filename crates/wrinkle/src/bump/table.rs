@@ -13,6 +13,7 @@
 //! function shifted by half a step, which we do not copy so that nearest and bilinear agree at texel centres.
 
 use crate::image::GreyImage;
+use crate::lanes::{CmpGe, F8, LANES};
 use crate::texture::{bilinear_taps, wrap01};
 
 /// How F is read from the table between texel centres.
@@ -97,6 +98,21 @@ impl BumpTable {
         }
         BumpSample { f: v[0], fs: v[1], ft: v[2] }
     }
+
+    /// `sample` at eight (s,t) on one level (0 for an unfiltered table): (F, Fs, Ft) per lane. Bilinear
+    /// lookups compute their taps on all lanes at once; nearest ones go lane by lane.
+    #[inline]
+    pub fn sample8(&self, s: F8, t: F8, interp: Interp, level: usize) -> [F8; 3] {
+        let level = &self.levels[level.min(self.levels.len() - 1)];
+        match interp {
+            Interp::Bilinear => level.bilinear8(s, t),
+            Interp::Nearest => {
+                let (s, t) = (s.as_array_ref(), t.as_array_ref());
+                let v: [[f32; 3]; LANES] = std::array::from_fn(|i| level.lookup(s[i], t[i], interp));
+                std::array::from_fn(|k| F8::new(v.map(|v| v[k])))
+            }
+        }
+    }
 }
 
 impl Level {
@@ -145,6 +161,51 @@ impl Level {
             }
         }
     }
+
+    /// The bilinear `lookup` on eight lanes.
+    #[inline]
+    fn bilinear8(&self, s: F8, t: F8) -> [F8; 3] {
+        let (w, h) = (self.width, self.height);
+        let (cols, fx) = neighbourhood8(s, w);
+        let (rows, fy) = neighbourhood8(t, h);
+        // The twelve texels of the 4x4 neighbourhood that the three lookups read (the corners are unused):
+        // row j0 and row j1 across im, i0, i1, i2; rows jm and j2 at i0 and i1.
+        const READ: [(usize, usize); 12] =
+            [(1, 0), (1, 1), (1, 2), (1, 3), (2, 0), (2, 1), (2, 2), (2, 3), (0, 1), (0, 2), (3, 1), (3, 2)];
+        let texels: [F8; 12] = std::array::from_fn(|k| {
+            let (r, c) = READ[k];
+            F8::new(std::array::from_fn(|i| self.values[rows[i][r] as usize * w + cols[i][c] as usize]))
+        });
+        let [r0m, r00, r01, r02, r1m, r10, r11, r12, rm0, rm1, r20, r21] = texels;
+        let lerp2 = |a: F8, b: F8, c: F8, d: F8| {
+            let bottom = a + fx * (b - a);
+            bottom + fy * (c + fx * (d - c) - bottom)
+        };
+        let f = lerp2(r00, r01, r10, r11);
+        let gs = lerp2(r01 - r0m, r02 - r00, r11 - r1m, r12 - r10) * F8::splat(w as f32 * 0.5);
+        let gt = lerp2(r10 - rm0, r11 - rm1, r20 - r00, r21 - r01) * F8::splat(h as f32 * 0.5);
+        [f, gs, gt]
+    }
+}
+
+/// On eight lanes: the bilinear taps of `bilinear_taps` (i0, i1 and the weight of i1) with their outer
+/// neighbours, as [i0 - 1, i0, i1, i1 + 1] wrapped into the table.
+#[inline]
+fn neighbourhood8(s: F8, n: usize) -> ([[u32; 4]; LANES], F8) {
+    let wrapped = s - s.floor();
+    // s just below an integer can round to exactly 1.0: that is 0.
+    let wrapped = wrapped.cmp_ge(F8::ONE).blend(F8::ZERO, wrapped);
+    let x = wrapped * F8::splat(n as f32) + F8::splat(0.5);
+    let floor = x.floor();
+    let (k, n) = (floor.as_array_ref(), n as u32);
+    let taps = std::array::from_fn(|i| {
+        // k is in [0, n]: the taps are k - 1 and k, periodic.
+        let k = k[i] as u32;
+        let i0 = if k == 0 { n - 1 } else { (k - 1).min(n - 1) };
+        let i1 = if k >= n { 0 } else { k };
+        [if i0 == 0 { n - 1 } else { i0 - 1 }, i0, i1, if i1 + 1 == n { 0 } else { i1 + 1 }]
+    });
+    (taps, x - floor)
 }
 
 /// Box-filters a periodic `w` x `h` table to `nw` x `nh` (any sizes): each target texel averages the
@@ -247,6 +308,27 @@ mod tests {
                 assert!((got.fs - fs).abs() < 1e-4, "{interp:?} fs {} vs {fs}", got.fs);
                 assert!((got.ft - ft).abs() < 1e-4, "{interp:?} ft {} vs {ft}", got.ft);
                 assert!((got.f - t.fval(s, tt, interp)).abs() < 1e-6);
+            }
+        }
+    }
+
+    #[test]
+    fn eight_lanes_equal_eight_lookups() {
+        let table = BumpTable::new(&Image::from_fn(7, 5, |x, y| ((x * 37 + y * 11) % 13) as f32 / 13.0));
+        // Inside cells, on texel centres, across both wraps, negative and beyond one period.
+        let s = F8::new([0.01, 0.2, 0.5, 0.999_99, -0.3, 1.7, 0.125, 3.0]);
+        let t = F8::new([0.99, 0.0, 0.33, 0.999_99, 2.4, -0.01, 0.875, 0.5]);
+        for interp in [Interp::Bilinear, Interp::Nearest] {
+            for level in [0, 1] {
+                let lanes = table.sample8(s, t, interp, level);
+                for i in 0..LANES {
+                    let one = table.sample(s.as_array_ref()[i], t.as_array_ref()[i], interp, level as f32);
+                    let got = [0, 1, 2].map(|k| lanes[k].as_array_ref()[i]);
+                    let want = [one.f, one.fs, one.ft];
+                    for k in 0..3 {
+                        assert!((got[k] - want[k]).abs() <= 1e-4 * (1.0 + want[k].abs()), "{interp:?} lane {i}: {got:?} vs {want:?}");
+                    }
+                }
             }
         }
     }

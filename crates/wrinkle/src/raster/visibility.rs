@@ -133,10 +133,24 @@ pub fn cover(
     tri: &ScreenTriangle,
     pattern: &SamplePattern,
     rect: (usize, usize, usize, usize),
+    hit: impl FnMut(usize, usize, usize, f32, f32),
+) {
+    // A fixed sample count unrolls the per-pixel sample loop.
+    match pattern.len() {
+        1 => cover_n::<1>(tri, pattern, rect, hit),
+        4 => cover_n::<4>(tri, pattern, rect, hit),
+        _ => cover_n::<16>(tri, pattern, rect, hit),
+    }
+}
+
+#[inline]
+fn cover_n<const SPP: usize>(
+    tri: &ScreenTriangle,
+    pattern: &SamplePattern,
+    rect: (usize, usize, usize, usize),
     mut hit: impl FnMut(usize, usize, usize, f32, f32),
 ) {
     let (rx, ry, rw, rh) = rect;
-    let spp = pattern.len();
     let x_lo = (tri.bbox[0] as usize).max(rx);
     let x_hi = (tri.bbox[2] as usize).min(rx + rw - 1);
     let y_lo = (tri.bbox[1] as usize).max(ry);
@@ -145,22 +159,25 @@ pub fn cover(
         return;
     }
     let [e0, e1, e2] = tri.edges;
-    // Per-sample offsets of each edge function, with the fill-rule bias folded in.
-    let mut offs = [[0i64; 3]; 16];
-    for (s, o) in pattern.offsets.iter().enumerate() {
-        for (k, e) in tri.edges.iter().enumerate() {
-            offs[s][k] = e[0] * o[0] + e[1] * o[1] + tri.bias[k];
-        }
-    }
+    // Per-sample offsets of each edge function, with the fill-rule bias folded in, and the sample's
+    // position relative to the triangle's origin (less the pixel's).
+    let offs: [[i64; 3]; SPP] = std::array::from_fn(|s| {
+        let o = pattern.offsets[s];
+        std::array::from_fn(|k| tri.edges[k][0] * o[0] + tri.edges[k][1] * o[1] + tri.bias[k])
+    });
+    let rel: [(f32, f32); SPP] = std::array::from_fn(|s| {
+        let (ox, oy) = pattern.offset(s);
+        (ox - tri.origin.x, oy - tri.origin.y)
+    });
     let eval = |e: [i64; 3], x: usize, y: usize| e[0] * (x as i64 * SUBPIXEL) + e[1] * (y as i64 * SUBPIXEL) + e[2];
     let (sx0, sx1, sx2) = (e0[0] * SUBPIXEL, e1[0] * SUBPIXEL, e2[0] * SUBPIXEL);
     for y in y_lo..=y_hi {
         let (mut w0, mut w1, mut w2) = (eval(e0, x_lo, y), eval(e1, x_lo, y), eval(e2, x_lo, y));
         for x in x_lo..=x_hi {
-            for (s, o) in offs[..spp].iter().enumerate() {
+            for s in 0..SPP {
+                let o = offs[s];
                 if (w0 + o[0]) | (w1 + o[1]) | (w2 + o[2]) >= 0 {
-                    let (ox, oy) = pattern.offset(s);
-                    hit(x, y, s, x as f32 + ox - tri.origin.x, y as f32 + oy - tri.origin.y);
+                    hit(x, y, s, x as f32 + rel[s].0, y as f32 + rel[s].1);
                 }
             }
             w0 += sx0;

@@ -286,9 +286,8 @@ impl TileJob<'_> {
         vis.render_tile(self.bins, tile, (w, h), self.triangles, self.pattern);
         // Shade every covered sample, eight of one surface at a time, into the tile's sample buffer.
         let spp = vis.spp;
-        let n = vis.width * vis.height * spp;
-        shaded.clear();
-        shaded.resize(n, Shaded::default());
+        // Only covered samples are read back, and each of them is written first: no clearing needed.
+        shaded.resize(vis.width * vis.height * spp, Shaded::default());
         let mut packet = Packet::default();
         for y in 0..vis.height {
             for x in 0..vis.width {

@@ -82,16 +82,21 @@ impl ShadeContext<'_> {
         let n_obj = match (&material.bump, self.bump_enabled) {
             (Some(bump), true) => {
                 let filter = self.bump_filter.unwrap_or(bump.filter);
-                let b: [Perturbation; LANES] =
-                    std::array::from_fn(|i| bump.perturbation(uv_lane(i), &footprints[i], filter));
+                let (f, fu, fv) = match filter {
+                    // One table level for every lane: the lookups run on all lanes at once.
+                    BumpFilter::None => bump.perturbation8(uv),
+                    _ => {
+                        let b: [Perturbation; LANES] =
+                            std::array::from_fn(|i| bump.perturbation(uv_lane(i), &footprints[i], filter));
+                        (F8::new(b.map(|b| b.f)), F8::new(b.map(|b| b.fu)), F8::new(b.map(|b| b.fv)))
+                    }
+                };
                 match bump.formula {
-                    BumpFormula::Blinn => {
-                        let (fu, fv) = (F8::new(b.map(|b| b.fu)), F8::new(b.map(|b| b.fv)));
-                        n_geo + blinn_d8(n_geo, frame.pu, frame.pv, fu, fv)
-                    }
-                    formula => {
-                        V3::from_lanes(&std::array::from_fn(|i| perturbed_normal(&frame.lane(i), b[i], formula)))
-                    }
+                    BumpFormula::Blinn => n_geo + blinn_d8(n_geo, frame.pu, frame.pv, fu, fv),
+                    formula => V3::from_lanes(&std::array::from_fn(|i| {
+                        let lane = |x: F8| x.as_array_ref()[i];
+                        perturbed_normal(&frame.lane(i), Perturbation { f: lane(f), fu: lane(fu), fv: lane(fv) }, formula)
+                    })),
                 }
             }
             _ => n_geo,
@@ -126,6 +131,15 @@ impl ShadeContext<'_> {
 }
 
 impl Bump {
+    /// F, Fu, Fv at eight (u,v) from the full-resolution table (no footprint filtering).
+    #[inline]
+    pub fn perturbation8(&self, uv: (F8, F8)) -> (F8, F8, F8) {
+        let (ru, rv) = (F8::splat(self.repeat.x), F8::splat(self.repeat.y));
+        let [f, fs, ft] = self.table.sample8(uv.0 * ru, uv.1 * rv, self.interp, 0);
+        let scale = F8::splat(self.scale);
+        (scale * f, scale * ru * fs, scale * rv * ft)
+    }
+
     /// F, Fu, Fv at surface parameters `uv`: the table is replicated `repeat` times and scaled by `scale`.
     #[inline]
     pub fn perturbation(&self, uv: Vec2, footprint: &Footprint, filter: BumpFilter) -> Perturbation {

@@ -33,8 +33,10 @@ pub fn wrap01(x: f32) -> f32 {
 pub fn bilinear_taps(s: f32, n: usize) -> (usize, usize, f32) {
     let x = wrap01(s) * n as f32 + 0.5;
     // x is in [0.5, n + 0.5]: truncation is the floor, and x - 1 is the position in texel-centre units.
-    let k = x as usize;
+    // Through i32: a float-to-usize conversion costs several times more instructions.
+    let k = x as i32;
     let f = x - k as f32;
+    let k = k as usize;
     let i0 = if k == 0 { n - 1 } else { k - 1 };
     let i1 = if k >= n { k - n } else { k };
     (i0.min(n - 1), i1.min(n - 1), f)
