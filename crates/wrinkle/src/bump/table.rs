@@ -169,14 +169,21 @@ impl Level {
         let (cols, fx) = neighbourhood8(s, w);
         let (rows, fy) = neighbourhood8(t, h);
         // The twelve texels of the 4x4 neighbourhood that the three lookups read (the corners are unused):
-        // row j0 and row j1 across im, i0, i1, i2; rows jm and j2 at i0 and i1.
-        const READ: [(usize, usize); 12] =
-            [(1, 0), (1, 1), (1, 2), (1, 3), (2, 0), (2, 1), (2, 2), (2, 3), (0, 1), (0, 2), (3, 1), (3, 2)];
-        let texels: [F8; 12] = std::array::from_fn(|k| {
-            let (r, c) = READ[k];
-            F8::new(std::array::from_fn(|i| self.values[rows[i][r] as usize * w + cols[i][c] as usize]))
-        });
-        let [r0m, r00, r01, r02, r1m, r10, r11, r12, rm0, rm1, r20, r21] = texels;
+        // rows j0 and j1 across im, i0, i1, i2; rows jm and j2 at i0 and i1.
+        let mut texels = [[0.0f32; LANES]; 12];
+        for i in 0..LANES {
+            let (c, r) = (cols[i].map(|c| c as usize), rows[i].map(|r| r as usize));
+            let row = |j: usize| &self.values[r[j] * w..][..w];
+            let (rm, r0, r1, r2) = (row(0), row(1), row(2), row(3));
+            let lane = [
+                r0[c[0]], r0[c[1]], r0[c[2]], r0[c[3]], r1[c[0]], r1[c[1]], r1[c[2]], r1[c[3]], rm[c[1]], rm[c[2]],
+                r2[c[1]], r2[c[2]],
+            ];
+            for k in 0..12 {
+                texels[k][i] = lane[k];
+            }
+        }
+        let [r0m, r00, r01, r02, r1m, r10, r11, r12, rm0, rm1, r20, r21] = texels.map(F8::new);
         let lerp2 = |a: F8, b: F8, c: F8, d: F8| {
             let bottom = a + fx * (b - a);
             bottom + fy * (c + fx * (d - c) - bottom)
