@@ -11,6 +11,7 @@ use std::io::{BufReader, Read, Write};
 use std::path::{Path, PathBuf};
 
 use ::image::{DynamicImage, ImageReader};
+use png_stream as png;
 
 use super::io::{decode, decode_error, open_message, write_atomic, LUMA};
 use crate::error::{Error, Result};
@@ -270,9 +271,9 @@ fn png_error(path: &Path, e: png::DecodingError) -> Error {
 pub enum PngCompression {
     /// fdeflate's fast mode with the Up filter on every row.
     Fast,
-    /// zlib level 6 (the `png` crate's default) with the filter chosen per row.
+    /// zlib level 6 with the filter chosen per row.
     Default,
-    /// zlib's strongest level with the filter chosen per row.
+    /// zlib level 9 with the filter chosen per row.
     Best,
 }
 
@@ -344,22 +345,13 @@ pub fn write_rows(
             let mut encoder = png::Encoder::new(out, w32, h32);
             encoder.set_color(if rows.channels == 3 { png::ColorType::Rgb } else { png::ColorType::Grayscale });
             encoder.set_depth(if rows.sixteen { png::BitDepth::Sixteen } else { png::BitDepth::Eight });
-            match compression {
-                PngCompression::Fast => {
-                    encoder.set_compression(png::Compression::Fast);
-                    encoder.set_filter(png::FilterType::Up);
-                    encoder.set_adaptive_filter(png::AdaptiveFilterType::NonAdaptive);
-                }
-                PngCompression::Default | PngCompression::Best => {
-                    let level = if compression == PngCompression::Best {
-                        png::Compression::Best
-                    } else {
-                        png::Compression::Default
-                    };
-                    encoder.set_compression(level);
-                    encoder.set_adaptive_filter(png::AdaptiveFilterType::Adaptive);
-                }
-            }
+            let (level, filter) = match compression {
+                PngCompression::Fast => (png::Compression::Fast, png::Filter::Up),
+                PngCompression::Default => (png::Compression::Balanced, png::Filter::Adaptive),
+                PngCompression::Best => (png::Compression::High, png::Filter::Adaptive),
+            };
+            encoder.set_compression(level);
+            encoder.set_filter(filter);
             let mut writer = encoder.write_header().map_err(png_err)?;
             let mut stream = writer.stream_writer_with_size(row_bytes.max(1 << 16)).map_err(png_err)?;
             produce(&mut |data| {
