@@ -7,6 +7,7 @@
 //! derivative. A component c in [-1, 1] is stored as (c + 1) / 2 of full scale. OpenGL's convention puts
 //! +Y up the picture (+v); DirectX's stores -Y.
 
+use super::schlag::round_to_bits;
 use crate::error::{Error, Result};
 use crate::image::strips::Window;
 
@@ -83,13 +84,13 @@ impl NormalMap {
 pub fn encode_rgb(nx: &[f32], ny: &[f32], nz: &[f32], sixteen: bool, out: &mut [u8]) {
     if sixteen {
         for (((o, &x), &y), &z) in out.chunks_exact_mut(6).zip(nx).zip(ny).zip(nz) {
-            let q = |c: f32| (((c + 1.0) * 0.5) * 65535.0 + 0.5) as u16;
+            let q = |c: f32| round_to_bits((c + 1.0) * 32767.5) as u16;
             let (x, y, z) = (q(x).to_be_bytes(), q(y).to_be_bytes(), q(z).to_be_bytes());
             o.copy_from_slice(&[x[0], x[1], y[0], y[1], z[0], z[1]]);
         }
     } else {
         for (((o, &x), &y), &z) in out.chunks_exact_mut(3).zip(nx).zip(ny).zip(nz) {
-            let q = |c: f32| ((c + 1.0) * 127.5 + 0.5) as u8;
+            let q = |c: f32| round_to_bits((c + 1.0) * 127.5) as u8;
             o.copy_from_slice(&[q(x), q(y), q(z)]);
         }
     }
