@@ -71,7 +71,7 @@ pub fn run(args: &HeightmapArgs) -> Result<()> {
         return Err(Error::Invalid(format!(
             "{}: integrating a {w}x{h} map needs {} GB of memory, more than the {} GB limit{}",
             args.input.display(),
-            fw * fh * BYTES_PER_FIELD_PIXEL >> 30,
+            (fw * fh * BYTES_PER_FIELD_PIXEL) >> 30,
             MAX_FIELD_BYTES >> 30,
             if args.wrap { "" } else { " (--wrap needs 4x less)" }
         )));

@@ -187,8 +187,21 @@ fn streamed_strips_equal_the_whole_image() {
         to_grey8(&s[..w], out);
     };
     let mut streamed = Vec::new();
-    filter_3x3(rows, 255.0, Edges::Clamp, None, None, w, &kernel, &mut |r| Ok(streamed.extend_from_slice(r)), &|_| {})
-        .unwrap();
+    filter_3x3(
+        rows,
+        255.0,
+        Edges::Clamp,
+        None,
+        None,
+        w,
+        &kernel,
+        &mut |r| {
+            streamed.extend_from_slice(r);
+            Ok(())
+        },
+        &|_| {},
+    )
+    .unwrap();
     let img: Vec<f32> = bytes.iter().map(|&b| b as f32).collect();
     let mut whole = vec![0u8; w * h];
     to_grey8(&emboss_image(&img, w, h, &e), &mut whole);

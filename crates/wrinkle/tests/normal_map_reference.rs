@@ -35,8 +35,21 @@ fn normals_of(path: &std::path::Path, map: NormalMap) -> (usize, usize, Vec<[f32
         }
     };
     let mut raw = Vec::new();
-    filter_3x3(rows, 1.0, Edges::Clamp, None, None, 12 * w, &kernel, &mut |r| Ok(raw.extend_from_slice(r)), &|_| {})
-        .unwrap();
+    filter_3x3(
+        rows,
+        1.0,
+        Edges::Clamp,
+        None,
+        None,
+        12 * w,
+        &kernel,
+        &mut |r| {
+            raw.extend_from_slice(r);
+            Ok(())
+        },
+        &|_| {},
+    )
+    .unwrap();
     let normals = raw
         .chunks_exact(12)
         .map(|c| {

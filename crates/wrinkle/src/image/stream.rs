@@ -333,7 +333,7 @@ pub fn write_rows(
     };
     let mut written = 0usize;
     let count = |written: &mut usize, data: &[u8]| -> Result<()> {
-        if data.len() % row_bytes != 0 || *written + data.len() / row_bytes > height {
+        if !data.len().is_multiple_of(row_bytes) || *written + data.len() / row_bytes > height {
             return Err(Error::Invalid(format!("{}: rows do not fit a {width}x{height} image", path.display())));
         }
         *written += data.len() / row_bytes;
@@ -417,7 +417,7 @@ mod tests {
                 })
                 .collect();
             write_rows(&path, w, h, rows, PngCompression::Fast, |sink| {
-                data.chunks(rows.row_bytes(w)).try_for_each(|r| sink(r))
+                data.chunks(rows.row_bytes(w)).try_for_each(sink)
             })
             .unwrap();
             let mut src = ImageRows::open(&path, 100).unwrap();

@@ -194,7 +194,7 @@ pub fn filter_3x3(
         let stats = filter.join().map_err(|_| Error::Invalid("the filter thread panicked".into()))?;
         outcome?;
         if done != h {
-            return Err(Error::Invalid(format!("{}: only {done} of {h} rows were filtered", "the image")));
+            return Err(Error::Invalid(format!("only {done} of the image's {h} rows were filtered")));
         }
         Ok(stats)
     })
