@@ -1,7 +1,12 @@
 //! The `wrinkle` command: parses the command line and hands each subcommand to its own file.
 
 mod bench;
+mod bump_image;
 mod bumpgen;
+mod emboss;
+mod heightmap;
+mod image_args;
+mod normalmap;
 mod output;
 mod render;
 
@@ -11,7 +16,7 @@ use std::process::ExitCode;
 #[derive(Parser)]
 #[command(name = "wrinkle", version, about = "Texture mapping and Blinn bump mapping: a fast CPU renderer and toolkit")]
 #[command(
-    after_help = "Examples:\n  wrinkle render -o cover.png\n  wrinkle render scenes/grid_patch.toml -o grid.png --spp 16\n  wrinkle bumpgen bricks -o bricks.png --size 512\n  wrinkle bench --frames 10"
+    after_help = "Examples:\n  wrinkle render -o cover.png\n  wrinkle render scenes/grid_patch.toml -o grid.png --spp 16\n  wrinkle bumpgen bricks -o bricks.png --size 512\n  wrinkle bench --frames 10\n  wrinkle emboss height.png -o embossed.png\n  wrinkle normalmap height.png -o normal.png"
 )]
 struct Cli {
     #[command(subcommand)]
@@ -26,6 +31,14 @@ enum Command {
     Bumpgen(bumpgen::BumpgenArgs),
     /// Time the rendering of a scene in-process: median milliseconds per frame.
     Bench(bench::BenchArgs),
+    /// Emboss a grey image (Schlag's fast embossing), alone or multiplying a colour texture.
+    Emboss(emboss::EmbossArgs),
+    /// Bump-map a grey image with Blinn's perturbation through the renderer (a flat patch seen head-on).
+    Bump(bump_image::BumpArgs),
+    /// Make a tangent-space normal map from a grey height image.
+    Normalmap(normalmap::NormalmapArgs),
+    /// Integrate a normal map back to a grey height image (Frankot-Chellappa).
+    Heightmap(heightmap::HeightmapArgs),
 }
 
 fn main() -> ExitCode {
@@ -52,6 +65,10 @@ fn main() -> ExitCode {
         Command::Render(a) => render::run(a),
         Command::Bumpgen(a) => bumpgen::run(a),
         Command::Bench(a) => bench::run(a),
+        Command::Emboss(a) => emboss::run(a),
+        Command::Bump(a) => bump_image::run(a),
+        Command::Normalmap(a) => normalmap::run(a),
+        Command::Heightmap(a) => heightmap::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

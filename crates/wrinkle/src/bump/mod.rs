@@ -3,6 +3,9 @@
 
 pub mod blinn;
 pub mod generators;
+pub mod integrate;
+pub mod normal_map;
+pub mod schlag;
 pub mod table;
 
 pub use blinn::{BumpFormula, Perturbation};

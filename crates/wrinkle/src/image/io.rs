@@ -22,10 +22,10 @@ pub const MAX_SIDE: usize = 32768;
 /// make a reader allocate many gigabytes.
 pub const MAX_PIXELS: usize = 16384 * 16384;
 
-const NOT_SUPPORTED: &str = "not a supported image (expected PNG, JPEG, BMP, TGA or TIFF)";
+pub(crate) const NOT_SUPPORTED: &str = "not a supported image (expected PNG, JPEG, BMP, TGA or TIFF)";
 
 /// Rec. 709 luma weights for R, G, B.
-const LUMA: [f32; 3] = [0.2126, 0.7152, 0.0722];
+pub const LUMA: [f32; 3] = [0.2126, 0.7152, 0.0722];
 
 /// PNG filter for every row: with `png::Compression::Fast` (fdeflate), `Up` gave the best
 /// speed/size balance on rendered pictures.
@@ -136,7 +136,7 @@ pub fn read_exr_channels(path: &Path) -> Result<(usize, usize, Vec<(String, Vec<
 }
 
 /// Opens and decodes an image file, refusing empty and oversized images before decoding pixels.
-fn decode(path: &Path) -> Result<DynamicImage> {
+pub(crate) fn decode(path: &Path) -> Result<DynamicImage> {
     let mut reader = ImageReader::open(path)
         .and_then(ImageReader::with_guessed_format)
         .map_err(|e| Error::read(path, open_message(&e)))?;
@@ -246,7 +246,7 @@ fn create_message(path: &Path, e: &io::Error) -> String {
     }
 }
 
-fn open_message(e: &io::Error) -> String {
+pub(crate) fn open_message(e: &io::Error) -> String {
     match e.kind() {
         io::ErrorKind::NotFound => "no such file".to_string(),
         _ => format!("cannot read: {e}"),
@@ -254,7 +254,7 @@ fn open_message(e: &io::Error) -> String {
 }
 
 /// A one-line read error for a failure of the `image` crate, naming the format it was read as.
-fn decode_error(path: &Path, format: Option<ImageFormat>, e: ImageError) -> Error {
+pub(crate) fn decode_error(path: &Path, format: Option<ImageFormat>, e: ImageError) -> Error {
     let name = format.map_or("image", format_name);
     let message = match e {
         ImageError::Unsupported(_) if format.is_none() => NOT_SUPPORTED.to_string(),

@@ -2,6 +2,9 @@
 
 pub mod color;
 pub mod io;
+pub mod resample;
+pub mod stream;
+pub mod strips;
 
 /// A rectangular buffer of pixels of type `T`, row 0 at the top.
 #[derive(Clone, Debug, PartialEq)]
