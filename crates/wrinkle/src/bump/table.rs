@@ -1,6 +1,7 @@
 //! Bump functions as tables (Blinn section 3): F looked up by nearest (FVAL) or bilinear interpolation,
 //! Fu and Fv by central differences with E = one table step, periodic wrap, and a MIP pyramid of the
-//! table for filtering the bump function by the pixel footprint (section 5).
+//! table for filtering the bump function by the pixel footprint (section 5); every texture filter
+//! (trilinear, ripmap, SAT, anisotropic, EWA) reads the table through the same code as colour textures.
 //!
 //! Blinn's central difference of a lookup shifted by exactly one table step lands on the neighbouring
 //! texels with the same interpolation weights, so
@@ -13,7 +14,11 @@
 //! function shifted by half a step, which we do not copy so that nearest and bilinear agree at texel centres.
 
 use crate::image::GreyImage;
-use crate::texture::{bilinear_taps, wrap01};
+use crate::texture::filter::{FilterOptions, Filterable};
+use crate::texture::mip::{MipFilter, Resample};
+use crate::texture::texel::{Plane, TexelSource};
+use crate::texture::{bilinear_taps, wrap01, Footprint, Wrap};
+use glam::Vec3;
 
 /// How F is read from the table between texel centres.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -32,81 +37,102 @@ pub struct BumpSample {
     pub ft: f32,
 }
 
-struct Level {
-    width: usize,
-    height: usize,
-    /// T, row 0 at the bottom (t near 0).
-    values: Vec<f32>,
-}
+/// One level of the table, T only (row 0 at the bottom, t near 0). As a texel source for the texture
+/// filters it reads (T, dT/ds, dT/dt) per texel, the derivatives by central differences on the fly, so
+/// every texture filter filters the bump function and its derivatives alike.
+#[derive(Clone, Debug)]
+pub struct Gradients(Plane<f32>);
 
-/// A periodic bump table with its MIP pyramid.
+/// A periodic bump table with its MIP pyramid (and, on first use by those filters, its ripmap and
+/// summed-area table).
 pub struct BumpTable {
-    levels: Vec<Level>,
+    data: Filterable<Gradients>,
 }
 
 impl BumpTable {
     /// The table from a grey image (row 0 at the top, as images are stored).
     pub fn new(image: &GreyImage) -> Self {
-        let (w, h) = (image.width, image.height);
-        let mut values: Vec<f32> = Vec::with_capacity(w * h);
-        for j in 0..h {
-            values.extend_from_slice(image.row(h - 1 - j));
-        }
-        let mut levels = vec![Level::new(w, h, values)];
-        let (mut w, mut h) = (w, h);
-        while w > 1 || h > 1 {
-            let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));
-            let smaller = box_resample(&levels[levels.len() - 1].values, w, h, nw, nh);
-            levels.push(Level::new(nw, nh, smaller));
-            (w, h) = (nw, nh);
-        }
-        BumpTable { levels }
+        let base = Gradients(Plane::from_top_rows(image.width, image.height, &image.pixels));
+        BumpTable { data: Filterable::new(base, MipFilter::Box, [Wrap::Repeat; 2]) }
     }
 
     pub fn width(&self) -> usize {
-        self.levels[0].width
+        self.data.width()
     }
 
     pub fn height(&self) -> usize {
-        self.levels[0].height
+        self.data.height()
     }
 
     pub fn level_count(&self) -> usize {
-        self.levels.len()
+        self.data.levels().len()
     }
 
     /// F at (s,t) on level 0, the way Blinn's FVAL does it (without derivatives).
     pub fn fval(&self, s: f32, t: f32, interp: Interp) -> f32 {
-        self.levels[0].lookup(s, t, interp)[0]
+        self.data.levels()[0].lookup(s, t, interp)[0]
     }
 
     /// F, Fs, Ft at (s,t). `level` selects the MIP level (fractional: linear between two levels);
     /// 0 is the full-resolution table, where E is one step of the table.
     #[inline]
     pub fn sample(&self, s: f32, t: f32, interp: Interp, level: f32) -> BumpSample {
-        let last = (self.levels.len() - 1) as f32;
+        let levels = self.data.levels();
+        let last = (levels.len() - 1) as f32;
         let level = level.clamp(0.0, last);
         let l0 = level.floor() as usize;
         let frac = level - l0 as f32;
-        let mut v = self.levels[l0].lookup(s, t, interp);
+        let mut v = levels[l0].lookup(s, t, interp);
         if frac > 0.0 {
-            let v1 = self.levels[l0 + 1].lookup(s, t, interp);
+            let v1 = levels[l0 + 1].lookup(s, t, interp);
             for k in 0..3 {
                 v[k] += frac * (v1[k] - v[k]);
             }
         }
         BumpSample { f: v[0], fs: v[1], ft: v[2] }
     }
+
+    /// F, Fs, Ft at (s,t) through any texture filter, `fp` the footprint in (s,t) units.
+    #[inline]
+    pub fn filtered(&self, s: f32, t: f32, fp: &Footprint, opts: &FilterOptions) -> BumpSample {
+        let v = self.data.sample(opts, Vec3::ZERO, s, t, fp);
+        BumpSample { f: v.x, fs: v.y, ft: v.z }
+    }
 }
 
-impl Level {
-    fn new(width: usize, height: usize, values: Vec<f32>) -> Level {
-        Level { width, height, values }
+impl TexelSource for Gradients {
+    type Texel = Vec3;
+    #[inline]
+    fn width(&self) -> usize {
+        self.0.width
     }
+    #[inline]
+    fn height(&self) -> usize {
+        self.0.height
+    }
+    #[inline]
+    fn texel(&self, i: usize, j: usize) -> Vec3 {
+        let (w, h) = (self.0.width, self.0.height);
+        let (ip, in_) = (if i == 0 { w - 1 } else { i - 1 }, if i + 1 == w { 0 } else { i + 1 });
+        let (jp, jn) = (if j == 0 { h - 1 } else { j - 1 }, if j + 1 == h { 0 } else { j + 1 });
+        Vec3::new(
+            self.at(i, j),
+            (self.at(in_, j) - self.at(ip, j)) * (w as f32 * 0.5),
+            (self.at(i, jn) - self.at(i, jp)) * (h as f32 * 0.5),
+        )
+    }
+}
 
+impl Resample for Gradients {
+    fn downsample(&self, nw: usize, nh: usize, filter: MipFilter, wrap: [Wrap; 2]) -> Self {
+        Gradients(self.0.downsample(nw, nh, filter, wrap))
+    }
+}
+
+impl Gradients {
     #[inline]
     fn at(&self, i: usize, j: usize) -> f32 {
-        self.values[j * self.width + i]
+        self.0.texels[j * self.0.width + i]
     }
 
     /// (T, dT/ds, dT/dt) at (s,t). The derivatives are Blinn's central differences with E = one step,
@@ -114,7 +140,8 @@ impl Level {
     /// four times smaller (and faster to stream through the cache) than storing the gradients.
     #[inline]
     fn lookup(&self, s: f32, t: f32, interp: Interp) -> [f32; 3] {
-        let (w, h) = (self.width, self.height);
+        let (w, h) = (self.0.width, self.0.height);
+        let values = &self.0.texels;
         let (hw, hh) = (w as f32 * 0.5, h as f32 * 0.5);
         let prev = |i: usize, n: usize| if i == 0 { n - 1 } else { i - 1 };
         let next = |i: usize, n: usize| if i + 1 == n { 0 } else { i + 1 };
@@ -132,8 +159,8 @@ impl Level {
                 let (j0, j1, fy) = bilinear_taps(t, h);
                 let (im, i2) = (prev(i0, w), next(i1, w));
                 let (jm, j2) = (prev(j0, h), next(j1, h));
-                let (r0, r1) = (&self.values[j0 * w..(j0 + 1) * w], &self.values[j1 * w..(j1 + 1) * w]);
-                let (rm, r2) = (&self.values[jm * w..(jm + 1) * w], &self.values[j2 * w..(j2 + 1) * w]);
+                let (r0, r1) = (&values[j0 * w..(j0 + 1) * w], &values[j1 * w..(j1 + 1) * w]);
+                let (rm, r2) = (&values[jm * w..(jm + 1) * w], &values[j2 * w..(j2 + 1) * w]);
                 let lerp2 = |a: f32, b: f32, c: f32, d: f32| {
                     let bottom = a + fx * (b - a);
                     bottom + fy * (c + fx * (d - c) - bottom)
@@ -145,43 +172,6 @@ impl Level {
             }
         }
     }
-}
-
-/// Box-filters a periodic `w` x `h` table to `nw` x `nh` (any sizes): each target texel averages the
-/// source area it covers, with fractional weights at its borders.
-fn box_resample(src: &[f32], w: usize, h: usize, nw: usize, nh: usize) -> Vec<f32> {
-    let weights = |n: usize, nn: usize| -> Vec<Vec<(usize, f32)>> {
-        let ratio = n as f64 / nn as f64;
-        (0..nn)
-            .map(|k| {
-                let (lo, hi) = (k as f64 * ratio, (k + 1) as f64 * ratio);
-                let mut taps = Vec::new();
-                let mut x = lo.floor() as usize;
-                while (x as f64) < hi {
-                    let cover = (hi.min(x as f64 + 1.0) - lo.max(x as f64)) / ratio;
-                    if cover > 0.0 {
-                        taps.push((x.min(n - 1), cover as f32));
-                    }
-                    x += 1;
-                }
-                taps
-            })
-            .collect()
-    };
-    let (wx, wy) = (weights(w, nw), weights(h, nh));
-    let mut out = Vec::with_capacity(nw * nh);
-    for ty in &wy {
-        for tx in &wx {
-            let mut sum = 0.0;
-            for &(y, ky) in ty {
-                for &(x, kx) in tx {
-                    sum += ky * kx * src[y * w + x];
-                }
-            }
-            out.push(sum);
-        }
-    }
-    out
 }
 
 #[cfg(test)]

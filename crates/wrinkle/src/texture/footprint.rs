@@ -28,6 +28,24 @@ impl Footprint {
             0.0
         }
     }
+
+    /// The MIP level from the pixel's area instead (the slides' alternative): log2 of the square root of
+    /// the area of the parallelogram the pixel covers, in texels; 0 below one texel.
+    pub fn mip_level_area(&self, width: usize, height: usize) -> f32 {
+        let area = ((self.dudx * self.dvdy - self.dudy * self.dvdx) * (width * height) as f32).abs();
+        if area > 1.0 {
+            0.5 * area.log2()
+        } else {
+            0.0
+        }
+    }
+
+    /// The footprint measured in texels of a `width` x `height` level: (du/dx, dv/dx, du/dy, dv/dy) * size.
+    #[inline]
+    pub fn in_texels(&self, width: usize, height: usize) -> [f32; 4] {
+        let (w, h) = (width as f32, height as f32);
+        [self.dudx * w, self.dvdx * h, self.dudy * w, self.dvdy * h]
+    }
 }
 
 #[cfg(test)]
