@@ -284,6 +284,7 @@ impl TileJob<'_> {
         vis.render_tile(self.bins, tile, (w, h), self.triangles, self.pattern);
         let spp = vis.spp;
         let inv_spp = 1.0 / spp as f32;
+        let cell = inv_spp.sqrt();
         let mut acc = frame::AovSample::default();
         for y in 0..vis.height {
             for x in 0..vis.width {
@@ -300,7 +301,9 @@ impl TileJob<'_> {
                     let inst = &self.instances[tri.surface as usize];
                     let screen = vis.sample_position(x, y, s, self.pattern);
                     let at = vis.resolve(k, tri, inst.object, screen);
-                    let [dudx, dvdx, dudy, dvdy] = at.duv;
+                    // Each of the spp stratified samples stands for its own 1/spp of the pixel: the texture
+                    // filters integrate over that cell, not the whole pixel again.
+                    let [dudx, dvdx, dudy, dvdy] = at.duv.map(|d| d * cell);
                     let footprint = Footprint { dudx, dvdx, dudy, dvdy };
                     let max_step = self.max_steps[tri.surface as usize];
                     let (uv, surface_frame) =
