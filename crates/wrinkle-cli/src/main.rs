@@ -2,6 +2,7 @@
 
 mod bench;
 mod bumpgen;
+mod filters;
 mod output;
 mod render;
 
@@ -26,6 +27,8 @@ enum Command {
     Bumpgen(bumpgen::BumpgenArgs),
     /// Time the rendering of a scene in-process: median milliseconds per frame.
     Bench(bench::BenchArgs),
+    /// Render one view with every texture filter beside a ground truth; print each filter's time and error.
+    Filters(filters::FiltersArgs),
 }
 
 fn main() -> ExitCode {
@@ -52,6 +55,7 @@ fn main() -> ExitCode {
         Command::Render(a) => render::run(a),
         Command::Bumpgen(a) => bumpgen::run(a),
         Command::Bench(a) => bench::run(a),
+        Command::Filters(a) => filters::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

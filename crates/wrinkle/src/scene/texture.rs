@@ -89,3 +89,14 @@ fn border(f: &Fields) -> Result<Vec4> {
     }
     Ok(Vec4::new(c[0], c[1], c[2], if n == 4 { c[3] } else { 1.0 }))
 }
+
+impl crate::Scene {
+    /// Every colour texture that has a choice of filters takes `filter` (`--filter` overriding the scene).
+    pub fn set_texture_filter(&mut self, filter: Filter) {
+        for m in &mut self.materials {
+            if let Some(t) = m.texture.as_ref().and_then(|t| t.with_filter(filter)) {
+                m.texture = Some(t);
+            }
+        }
+    }
+}

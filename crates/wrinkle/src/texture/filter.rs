@@ -73,7 +73,7 @@ pub struct FilterOptions {
     pub level_rule: LevelRule,
     /// The most probes (aniso) or the largest axis ratio (EWA).
     pub max_aniso: f32,
-    /// Samples per side of the reference filter.
+    /// Samples per side of the reference filter (8: with 16 samples per pixel, 32 x 32 per pixel).
     pub reference_samples: usize,
 }
 
@@ -83,7 +83,7 @@ impl Default for FilterOptions {
             filter: Filter::Trilinear,
             level_rule: LevelRule::Longest,
             max_aniso: 16.0,
-            reference_samples: 32,
+            reference_samples: 8,
         }
     }
 }

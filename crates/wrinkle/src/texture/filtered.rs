@@ -52,6 +52,11 @@ impl FilteredTexture {
         FilteredTexture { data: Arc::clone(&self.data), options: TextureOptions { filter, ..self.options } }
     }
 
+    /// The same texture data replicated `repeat` times per unit of (u, v).
+    pub fn with_repeat(&self, repeat: Vec2) -> FilteredTexture {
+        FilteredTexture { data: Arc::clone(&self.data), options: TextureOptions { repeat, ..self.options } }
+    }
+
     pub fn data(&self) -> &Filterable<Plane<Vec4>> {
         &self.data
     }
