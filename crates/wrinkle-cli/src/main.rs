@@ -3,6 +3,7 @@
 mod bench;
 mod bumpgen;
 mod filters;
+mod mipmap;
 mod output;
 mod render;
 
@@ -29,6 +30,8 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Render one view with every texture filter beside a ground truth; print each filter's time and error.
     Filters(filters::FiltersArgs),
+    /// Build a texture's MIP pyramid in linear light and write it as an atlas or one PNG per level.
+    Mipmap(mipmap::MipmapArgs),
 }
 
 fn main() -> ExitCode {
@@ -56,6 +59,7 @@ fn main() -> ExitCode {
         Command::Bumpgen(a) => bumpgen::run(a),
         Command::Bench(a) => bench::run(a),
         Command::Filters(a) => filters::run(a),
+        Command::Mipmap(a) => mipmap::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -136,6 +136,12 @@ pub fn write_png_rgb8(path: &Path, width: usize, height: usize, rgb: &[u8]) -> R
     write_png(path, width, height, png::ColorType::Rgb, png::BitDepth::Eight, rgb)
 }
 
+/// Writes an 8-bit RGBA PNG from `rgba`, 4 bytes per pixel, row 0 at the top.
+pub fn write_png_rgba8(path: &Path, width: usize, height: usize, rgba: &[u8]) -> Result<()> {
+    check_buffer(path, width, height, 4, rgba.len())?;
+    write_png(path, width, height, png::ColorType::Rgba, png::BitDepth::Eight, rgba)
+}
+
 /// Writes a 16-bit grey PNG: values clamped to [0, 1] and scaled by 65535, rounded (NaN gives 0).
 pub fn write_png_grey16(path: &Path, img: &GreyImage) -> Result<()> {
     check_buffer(path, img.width, img.height, 1, img.pixels.len())?;
