@@ -1,6 +1,7 @@
 //! The `wrinkle` command: parses the command line and hands each subcommand to its own file.
 
 mod bench;
+mod bench_texture;
 mod bumpgen;
 mod filters;
 mod mipmap;
@@ -32,6 +33,8 @@ enum Command {
     Filters(filters::FiltersArgs),
     /// Build a texture's MIP pyramid in linear light and write it as an atlas or one PNG per level.
     Mipmap(mipmap::MipmapArgs),
+    /// Time texture lookups per filter (isotropic and 8:1 footprints, random and scanline order) and the pyramid build.
+    BenchTexture(bench_texture::BenchTextureArgs),
 }
 
 fn main() -> ExitCode {
@@ -60,6 +63,7 @@ fn main() -> ExitCode {
         Command::Bench(a) => bench::run(a),
         Command::Filters(a) => filters::run(a),
         Command::Mipmap(a) => mipmap::run(a),
+        Command::BenchTexture(a) => bench_texture::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
