@@ -15,7 +15,9 @@ use wrinkle::texture::{Filter, FilterOptions, FilteredTexture, Footprint, MipFil
 use wrinkle::{Error, Result};
 
 #[derive(Args, Debug)]
-#[command(after_help = "Examples:\n  wrinkle bench-texture                                  4096x4096, trilinear, aniso and ewa\n  wrinkle bench-texture --filters bilinear,trilinear,ripmap,sat,aniso,ewa --lookups 4000000\n  wrinkle bench-texture --size 1024 --threads 1")]
+#[command(
+    after_help = "Examples:\n  wrinkle bench-texture                                  4096x4096, trilinear, aniso and ewa\n  wrinkle bench-texture --filters bilinear,trilinear,ripmap,sat,aniso,ewa --lookups 4000000\n  wrinkle bench-texture --size 1024 --threads 1"
+)]
 pub struct BenchTextureArgs {
     /// Texture side in texels (RGBA8, sRGB).
     #[arg(long, default_value_t = 4096)]
@@ -97,11 +99,8 @@ fn rate(tex: &FilteredTexture, set: &[Lookup], parallel: bool, rounds: usize) ->
     let times = (0..rounds)
         .map(|_| {
             let t = Instant::now();
-            let sum = if parallel {
-                set.par_chunks(4096).map(run).reduce(|| Vec4::ZERO, |a, b| a + b)
-            } else {
-                run(set)
-            };
+            let sum =
+                if parallel { set.par_chunks(4096).map(run).reduce(|| Vec4::ZERO, |a, b| a + b) } else { run(set) };
             black_box(sum);
             t.elapsed().as_secs_f64()
         })
@@ -124,8 +123,9 @@ pub fn run(args: &BenchTextureArgs) -> Result<()> {
         .filters
         .iter()
         .map(|n| {
-            Filter::parse(n.trim())
-                .ok_or_else(|| Error::Invalid(format!("--filters: unknown filter \"{n}\" (expected {})", Filter::names())))
+            Filter::parse(n.trim()).ok_or_else(|| {
+                Error::Invalid(format!("--filters: unknown filter \"{n}\" (expected {})", Filter::names()))
+            })
         })
         .collect::<Result<Vec<_>>>()?;
     let n = args.size;

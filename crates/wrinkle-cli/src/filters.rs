@@ -7,8 +7,8 @@
 
 use crate::render::load_scene;
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
 use glam::Vec2;
+use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
@@ -19,7 +19,9 @@ use wrinkle::texture::{Filter, FilteredTexture, TextureOptions};
 use wrinkle::{render, Error, RenderOptions, Result, Scene};
 
 #[derive(Args, Debug)]
-#[command(after_help = "Examples:\n  wrinkle filters -o sheet.png                    the classic view: a checkerboard plane to the horizon and a lettered sphere\n  wrinkle filters scene.toml -o sheet.png --json  any scene: every colour texture takes each filter in turn\n  wrinkle filters -o sheet.png --filters bilinear,trilinear,ewa --width 480 --height 360")]
+#[command(
+    after_help = "Examples:\n  wrinkle filters -o sheet.png                    the classic view: a checkerboard plane to the horizon and a lettered sphere\n  wrinkle filters scene.toml -o sheet.png --json  any scene: every colour texture takes each filter in turn\n  wrinkle filters -o sheet.png --filters bilinear,trilinear,ewa --width 480 --height 360"
+)]
 pub struct FiltersArgs {
     /// Scene file (TOML); the classic grazing-plane view when omitted.
     pub scene: Option<PathBuf>,
@@ -80,8 +82,14 @@ material = { color = [1.0, 1.0, 1.0], specular = 0.2, shininess = 30.0 }
 const PERIOD: f32 = 4.0;
 /// The plane's rows: (near z, far z, half width). Boundaries and widths are whole periods apart, so the
 /// checks run on unbroken from row to row.
-const ROWS: [(f32, f32, f32); 6] =
-    [(3.0, -1.0, 4.0), (-1.0, -9.0, 12.0), (-9.0, -25.0, 20.0), (-25.0, -57.0, 44.0), (-57.0, -121.0, 88.0), (-121.0, -249.0, 180.0)];
+const ROWS: [(f32, f32, f32); 6] = [
+    (3.0, -1.0, 4.0),
+    (-1.0, -9.0, 12.0),
+    (-9.0, -25.0, 20.0),
+    (-25.0, -57.0, 44.0),
+    (-57.0, -121.0, 88.0),
+    (-121.0, -249.0, 180.0),
+];
 
 /// The classic scene with its textures: a 64 x 64 checkerboard (4-texel checks, one period every 4 units)
 /// on the plane, and "TEXTURE" in 8 x 8 letters around the sphere.
@@ -121,11 +129,8 @@ struct Panel {
 }
 
 fn rmse(a: &[[f32; 3]], b: &[[f32; 3]]) -> f64 {
-    let sum: f64 = a
-        .iter()
-        .zip(b)
-        .map(|(x, y)| (0..3).map(|c| ((x[c] - y[c]) as f64).powi(2)).sum::<f64>() / 3.0)
-        .sum();
+    let sum: f64 =
+        a.iter().zip(b).map(|(x, y)| (0..3).map(|c| ((x[c] - y[c]) as f64).powi(2)).sum::<f64>() / 3.0).sum();
     (sum / a.len() as f64).sqrt()
 }
 
@@ -153,8 +158,9 @@ pub fn run(args: &FiltersArgs) -> Result<()> {
     let filters = names
         .iter()
         .map(|n| {
-            Filter::parse(n)
-                .ok_or_else(|| Error::Invalid(format!("--filters: unknown filter \"{n}\" (expected {})", Filter::names())))
+            Filter::parse(n).ok_or_else(|| {
+                Error::Invalid(format!("--filters: unknown filter \"{n}\" (expected {})", Filter::names()))
+            })
         })
         .collect::<Result<Vec<_>>>()?;
     let options = RenderOptions { width: args.width, height: args.height, ..RenderOptions::default() };

@@ -13,7 +13,9 @@ use wrinkle::texture::{MipFilter, Wrap};
 use wrinkle::{Error, Result};
 
 #[derive(Args, Debug)]
-#[command(after_help = "Examples:\n  wrinkle mipmap bricks.png -o bricks_mips.png                 atlas: level 0, the others stacked to its right\n  wrinkle mipmap bricks.png -o mips.png --filter kaiser --levels   mips_0.png, mips_1.png, ...\n  wrinkle mipmap heights.png -o h.png --linear                 data, not colour: no sRGB decoding")]
+#[command(
+    after_help = "Examples:\n  wrinkle mipmap bricks.png -o bricks_mips.png                 atlas: level 0, the others stacked to its right\n  wrinkle mipmap bricks.png -o mips.png --filter kaiser --levels   mips_0.png, mips_1.png, ...\n  wrinkle mipmap heights.png -o h.png --linear                 data, not colour: no sRGB decoding"
+)]
 pub struct MipmapArgs {
     /// The texture (PNG, JPEG, BMP, TGA, TIFF, EXR; 8-bit, 16-bit or float).
     pub input: PathBuf,

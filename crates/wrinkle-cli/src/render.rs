@@ -1,11 +1,11 @@
 //! `wrinkle render`: one frame, or a turntable animation of numbered frames.
 
 use crate::output::{format_of, write_outputs};
+use clap::builder::PossibleValuesParser;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use wrinkle::render::Aovs;
-use clap::builder::PossibleValuesParser;
 use wrinkle::shade::BumpFilter;
 use wrinkle::texture::Filter;
 use wrinkle::{render_with_progress, Error, RenderOptions, Result, Scene};

@@ -196,3 +196,47 @@ fn every_filter_against_the_ground_truth_on_the_grazing_plane() {
         assert!(a[name] > floor - 0.3, "{name}: {:.2} dB, floor {floor}", a[name]);
     }
 }
+
+/// A material's texture with its filter, both forms, and the errors that name the field.
+#[test]
+fn scene_files_choose_the_filter_per_texture() {
+    use std::path::Path;
+    use wrinkle::Scene;
+    let dir = std::env::temp_dir().join(format!("wrinkle_filtering_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let rgb: Vec<u8> = (0..16 * 8 * 3).map(|k| (k * 37 % 256) as u8).collect();
+    wrinkle::image::io::write_png_rgb8(&dir.join("t.png"), 16, 8, &rgb).unwrap();
+    let scene = |material: &str| {
+        format!("[camera]\neye = [0.0, 0.0, 3.0]\nlook_at = [0.0, 0.0, 0.0]\n\n[[object]]\nshape = \"sphere\"\nmaterial = {material}\n")
+    };
+    let parse = |material: &str| Scene::parse(&scene(material), Path::new(&dir));
+    let fp = Footprint { dudx: 0.3, dvdx: 0.05, dudy: 0.0, dvdy: 0.01 };
+    let look = |s: &Scene| s.materials[0].texture.as_ref().unwrap().sample(glam::Vec2::new(0.3, 0.6), &fp);
+    let short = parse("{ texture = \"t.png\", filter = \"ewa\" }").unwrap();
+    let table = parse("{ texture = { path = \"t.png\", filter = \"ewa\", wrap = \"repeat\", srgb = true } }").unwrap();
+    let trilinear = parse("{ texture = \"t.png\" }").unwrap();
+    assert_eq!(look(&short), look(&table));
+    assert_ne!(look(&short), look(&trilinear), "the default is trilinear, not EWA");
+    // Overriding the scene's filter, as --filter does.
+    let mut over = parse("{ texture = \"t.png\" }").unwrap();
+    over.set_texture_filter(Filter::parse("ewa").unwrap());
+    assert_eq!(look(&over), look(&short));
+    for (material, message) in [
+        ("{ texture = \"t.png\", filter = \"fancy\" }", "objects[0].material.filter: expected one of \"nearest\""),
+        (
+            "{ texture = { path = \"t.png\", filter = \"ewa\" }, filter = \"sat\" }",
+            "objects[0].material.filter: given twice",
+        ),
+        ("{ filter = \"sat\" }", "objects[0].material.filter: only with a texture"),
+        ("{ texture = { path = \"t.png\", wrap = \"wobble\" } }", "objects[0].material.texture.wrap: expected one of"),
+        (
+            "{ texture = { path = \"t.png\", mipmap = \"tent\" } }",
+            "objects[0].material.texture.mipmap: expected one of",
+        ),
+        ("{ texture = { path = \"t.png\", border = [2, 0, 0] } }", "objects[0].material.texture.border"),
+    ] {
+        let e = parse(material).err().unwrap_or_else(|| panic!("{material} parsed")).to_string();
+        assert!(e.starts_with(message), "{material}: {e}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

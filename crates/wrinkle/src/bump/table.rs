@@ -241,6 +241,33 @@ mod tests {
         }
     }
 
+    /// Through the texture filters, the table and its derivatives are what Blinn's lookups give: bilinear
+    /// equals the bilinear FVAL with central differences, trilinear equals the table's own MIP lookup.
+    #[test]
+    fn texture_filters_read_the_same_table_and_derivatives() {
+        use crate::texture::{Filter, FilterOptions, Footprint};
+        let img = Image::from_fn(32, 16, |x, y| ((x * 7 + y * 3) % 5) as f32 / 4.0 + 0.1 * (x as f32).sin());
+        let t = BumpTable::new(&img);
+        let opts = |name: &str| FilterOptions { filter: Filter::parse(name).unwrap(), ..FilterOptions::default() };
+        for &(s, tt) in &[(0.13, 0.77), (0.51, 0.02), (0.97, 0.49)] {
+            let want = t.sample(s, tt, Interp::Bilinear, 0.0);
+            let got = t.filtered(s, tt, &Footprint::default(), &opts("bilinear"));
+            assert!(
+                (got.f - want.f).abs() < 1e-5 && (got.fs - want.fs).abs() < 1e-3 && (got.ft - want.ft).abs() < 1e-3
+            );
+            // A footprint of 2.5 texels: level log2(2.5) of the pyramid.
+            let fp = Footprint { dudx: 2.5 / 32.0, dvdx: 0.0, dudy: 0.0, dvdy: 1.0 / 16.0 };
+            let want = t.sample(s, tt, Interp::Bilinear, 2.5f32.log2());
+            let got = t.filtered(s, tt, &fp, &opts("trilinear"));
+            assert!(
+                (got.f - want.f).abs() < 1e-5 && (got.fs - want.fs).abs() < 1e-3 && (got.ft - want.ft).abs() < 1e-3
+            );
+            // EWA of the derivatives is the derivative of the EWA: close to trilinear's on this smooth scale.
+            let ewa = t.filtered(s, tt, &fp, &opts("ewa"));
+            assert!((ewa.f - want.f).abs() < 0.2, "{} vs {}", ewa.f, want.f);
+        }
+    }
+
     #[test]
     fn pyramid_keeps_the_mean_for_odd_sizes() {
         let img = Image::from_fn(7, 5, |x, y| ((x * 3 + y * 5) % 4) as f32);
