@@ -520,7 +520,8 @@ fn unparsable_arguments_are_one_line() {
 fn filters_writes_a_labelled_sheet_and_a_table_of_errors() {
     let s = Scratch::new("filters");
     let out = s.out("sheet.png");
-    let run = wrinkle(&["filters", "-o", &out, "--width", "64", "--height", "48", "--filters", "bilinear,ewa", "--json"]);
+    let run =
+        wrinkle(&["filters", "-o", &out, "--width", "64", "--height", "48", "--filters", "bilinear,ewa", "--json"]);
     assert_ok(&run);
     // Two filters and the ground truth in one row of three 64 px panels with 4 px gaps; a 20 px label strip.
     assert_eq!(png_header(&out), (3 * 68 + 4, 48 + 20 + 8, 8, 2));
