@@ -93,19 +93,29 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-/// Million lookups per second, on this thread or on every worker.
-fn rate(tex: &FilteredTexture, set: &[Lookup], parallel: bool, rounds: usize) -> f64 {
+/// CPU time this thread has run, in seconds (Linux schedstat), so that one-thread rates on a shared,
+/// loaded machine count the time the thread actually ran, not the time it waited for a core.
+fn thread_cpu_s() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    Some(text.split_whitespace().next()?.parse::<f64>().ok()? * 1e-9)
+}
+
+/// Million lookups per second, on this thread or on every worker: (per wall-clock second, per CPU second of
+/// this thread when on one thread).
+fn rate(tex: &FilteredTexture, set: &[Lookup], parallel: bool, rounds: usize) -> (f64, Option<f64>) {
     let run = |chunk: &[Lookup]| chunk.iter().fold(Vec4::ZERO, |acc, l| acc + tex.lookup(l.st.x, l.st.y, &l.fp));
-    let times = (0..rounds)
-        .map(|_| {
-            let t = Instant::now();
-            let sum =
-                if parallel { set.par_chunks(4096).map(run).reduce(|| Vec4::ZERO, |a, b| a + b) } else { run(set) };
-            black_box(sum);
-            t.elapsed().as_secs_f64()
-        })
-        .collect();
-    set.len() as f64 / median(times) / 1e6
+    let (mut wall, mut cpu) = (Vec::new(), Vec::new());
+    for _ in 0..rounds {
+        let (t, c) = (Instant::now(), thread_cpu_s());
+        let sum = if parallel { set.par_chunks(4096).map(run).reduce(|| Vec4::ZERO, |a, b| a + b) } else { run(set) };
+        black_box(sum);
+        wall.push(t.elapsed().as_secs_f64());
+        if let (Some(c0), Some(c1)) = (c, thread_cpu_s()) {
+            cpu.push(c1 - c0);
+        }
+    }
+    let per_s = |v: Vec<f64>| set.len() as f64 / median(v) / 1e6;
+    (per_s(wall), (!parallel && cpu.len() == rounds).then(|| per_s(cpu)))
 }
 
 pub fn run(args: &BenchTextureArgs) -> Result<()> {
@@ -133,15 +143,20 @@ pub fn run(args: &BenchTextureArgs) -> Result<()> {
     // Value noise with some structure: every texel different, like a photograph at this scale.
     let mut rng = Rng(7);
     let bytes: Vec<[u8; 4]> = (0..n * n).map(|_| [0, 1, 2, 3].map(|_| (rng.next() * 255.0) as u8)).collect();
+    let image = Image { width: n, height: n, pixels: bytes };
+    // The pyramid alone: every level from the decoded full-resolution texture, in linear light.
     let decode = srgb8_decode_table();
-    let t = Instant::now();
-    let pixels: Vec<[f32; 4]> = bytes
-        .par_iter()
-        .map(|p| [decode[p[0] as usize], decode[p[1] as usize], decode[p[2] as usize], p[3] as f32 / 255.0])
-        .collect();
-    let decode_ms = t.elapsed().as_secs_f64() * 1e3;
-    let image = Image { width: n, height: n, pixels };
-    let base = Plane::from_top_rows(n, n, &image.pixels.iter().map(|&p| Vec4::from(p)).collect::<Vec<_>>());
+    let base = Plane::from_top_rows(
+        n,
+        n,
+        &image
+            .pixels
+            .iter()
+            .map(|p| {
+                Vec4::new(decode[p[0] as usize], decode[p[1] as usize], decode[p[2] as usize], p[3] as f32 / 255.0)
+            })
+            .collect::<Vec<_>>(),
+    );
     let builds: Vec<f64> = (0..args.rounds)
         .map(|_| {
             let b = base.clone();
@@ -150,12 +165,15 @@ pub fn run(args: &BenchTextureArgs) -> Result<()> {
             t.elapsed().as_secs_f64() * 1e3
         })
         .collect();
+    drop(base);
+    // The whole texture as a scene loads it: decode, pyramid, levels stored in 8 bits.
+    let t = Instant::now();
+    let texture = FilteredTexture::from_rgba8(&image, true, TextureOptions::default());
+    let whole_ms = t.elapsed().as_secs_f64() * 1e3;
     println!(
-        "pyramid size={n}x{n} filter=box threads={threads} build_ms={:.1} (decode of the 8-bit sRGB texels {decode_ms:.1} ms)",
+        "pyramid size={n}x{n} filter=box threads={threads} build_ms={:.1} texture_ms={whole_ms:.1} (texture: sRGB decode, pyramid, 8-bit levels)",
         median(builds)
     );
-    drop(base);
-    let texture = FilteredTexture::new(&image, TextureOptions::default());
     drop(image);
     for filter in filters {
         let tex = texture.with_options(FilterOptions { filter, ..FilterOptions::default() });
@@ -164,10 +182,11 @@ pub fn run(args: &BenchTextureArgs) -> Result<()> {
         for (shape, ratio) in [("iso", 1.0), ("aniso8", 8.0)] {
             for (order, scanline) in [("random", false), ("scanline", true)] {
                 let set = lookups(args.lookups, ratio, scanline);
-                let one = rate(&tex, &set, false, args.rounds);
-                let all = rate(&tex, &set, true, args.rounds);
+                let (one, one_cpu) = rate(&tex, &set, false, args.rounds);
+                let (all, _) = rate(&tex, &set, true, args.rounds);
+                let cpu = one_cpu.map_or(String::new(), |c| format!(" mlookups_per_cpu_s_1thread={c:.2}"));
                 println!(
-                    "filter={} footprint={shape} order={order} mlookups_per_s_1thread={one:.2} mlookups_per_s_{threads}threads={all:.2}",
+                    "filter={} footprint={shape} order={order} mlookups_per_s_1thread={one:.2}{cpu} mlookups_per_s_{threads}threads={all:.2}",
                     filter.name()
                 );
             }

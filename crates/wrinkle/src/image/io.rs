@@ -65,24 +65,27 @@ pub fn load_rgba8(path: &Path) -> Result<Image<[u8; 4]>> {
     Ok(Image { width, height, pixels })
 }
 
-/// Loads a colour texture in linear light as RGBA f32, from 8-bit, 16-bit or float images (the formats of
-/// [`load_grey`], and OpenEXR by extension). With `srgb`, 8- and 16-bit colour channels are decoded from
-/// sRGB; float images are linear already. Alpha is never decoded; it is 1 where the file has none.
-pub fn load_rgba_linear(path: &Path, srgb: bool) -> Result<Image<[f32; 4]>> {
+/// A colour texture's texels as its file holds them: 8-bit bytes as stored (still sRGB-encoded where they
+/// are), or anything deeper already in linear light.
+pub enum Texels {
+    Rgba8(Image<[u8; 4]>),
+    Linear(Image<[f32; 4]>),
+}
+
+/// Loads a colour texture from 8-bit, 16-bit or float images (the formats of [`load_grey`], and OpenEXR by
+/// extension). 8-bit images come back as bytes; with `srgb`, 16-bit colour channels are decoded from sRGB to
+/// linear; float images are linear already. Alpha is never decoded; it is opaque where the file has none.
+pub fn load_texels(path: &Path, srgb: bool) -> Result<Texels> {
     if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr")) {
-        return load_exr_rgba(path);
+        return load_exr_rgba(path).map(Texels::Linear);
     }
     let img = decode(path)?;
     let (width, height) = (img.width() as usize, img.height() as usize);
     let float = matches!(img.color(), ::image::ColorType::Rgb32F | ::image::ColorType::Rgba32F);
-    let pixels = if float {
-        img.into_rgba32f().pixels().map(|p| p.0).collect()
+    Ok(if float {
+        Texels::Linear(Image { width, height, pixels: img.into_rgba32f().pixels().map(|p| p.0).collect() })
     } else if img.color().bytes_per_pixel() / img.color().channel_count() == 1 {
-        let table = if srgb { super::color::srgb8_decode_table() } else { std::array::from_fn(|i| i as f32 / 255.0) };
-        img.into_rgba8()
-            .pixels()
-            .map(|p| [table[p[0] as usize], table[p[1] as usize], table[p[2] as usize], p[3] as f32 / 255.0])
-            .collect()
+        Texels::Rgba8(Image { width, height, pixels: img.into_rgba8().pixels().map(|p| p.0).collect() })
     } else {
         let table: Vec<f32> = (0..=65535u32)
             .map(|i| {
@@ -94,12 +97,29 @@ pub fn load_rgba_linear(path: &Path, srgb: bool) -> Result<Image<[f32; 4]>> {
                 }
             })
             .collect();
-        img.into_rgba16()
+        let pixels = img
+            .into_rgba16()
             .pixels()
             .map(|p| [table[p[0] as usize], table[p[1] as usize], table[p[2] as usize], p[3] as f32 / 65535.0])
-            .collect()
-    };
-    Ok(Image { width, height, pixels })
+            .collect();
+        Texels::Linear(Image { width, height, pixels })
+    })
+}
+
+/// A colour texture in linear light as RGBA f32: [`load_texels`] with 8-bit texels decoded too.
+pub fn load_rgba_linear(path: &Path, srgb: bool) -> Result<Image<[f32; 4]>> {
+    Ok(match load_texels(path, srgb)? {
+        Texels::Linear(image) => image,
+        Texels::Rgba8(image) => {
+            let table = if srgb { super::color::srgb8_decode_table() } else { std::array::from_fn(|i| i as f32 / 255.0) };
+            let pixels = image
+                .pixels
+                .iter()
+                .map(|p| [table[p[0] as usize], table[p[1] as usize], table[p[2] as usize], p[3] as f32 / 255.0])
+                .collect();
+            Image { width: image.width, height: image.height, pixels }
+        }
+    })
 }
 
 /// R, G, B (and A when present) of an OpenEXR file; a single channel (Y or any name) is grey.

@@ -56,8 +56,10 @@ pub fn parse_texture(path: &str, v: &Value, material: &Fields, base: &Path) -> R
             (file, options, f.boolean("srgb", true)?)
         }
     };
-    let image = io::load_rgba_linear(&resolve(base, file), srgb)?;
-    Ok(Arc::new(FilteredTexture::new(&image, options)))
+    Ok(Arc::new(match io::load_texels(&resolve(base, file), srgb)? {
+        io::Texels::Rgba8(image) => FilteredTexture::from_rgba8(&image, srgb, options),
+        io::Texels::Linear(image) => FilteredTexture::new(&image, options),
+    }))
 }
 
 fn filter_choices() -> Vec<(&'static str, Option<Filter>)> {

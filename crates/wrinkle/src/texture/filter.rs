@@ -109,6 +109,11 @@ impl<S: Resample> Filterable<S> {
         }
     }
 
+    /// A pyramid built elsewhere (levels[0] the full texture, each next level from the one before).
+    pub fn from_levels(levels: Vec<S>, mip_filter: MipFilter, wrap: [Wrap; 2]) -> Self {
+        Filterable { levels, wrap, mip_filter, ripmap: OnceLock::new(), sat: OnceLock::new() }
+    }
+
     pub fn levels(&self) -> &[S] {
         &self.levels
     }

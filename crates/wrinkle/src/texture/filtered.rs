@@ -1,12 +1,14 @@
-//! A colour texture with a choice of filter: linear RGBA texels (decoded once from 8-bit, 16-bit or float
-//! sources), wrap modes per axis, a border colour, a replication count, and one of the filters of
+//! A colour texture with a choice of filter: RGBA texels (8-bit sources kept in 8 bits and decoded per
+//! fetch, 16-bit and float sources as linear f32), wrap modes per axis, a border colour, a replication count, and one of the filters of
 //! [`Filter`] for every lookup.
 
 use super::filter::{Filter, FilterOptions, Filterable};
-use super::mip::MipFilter;
+use super::mip::{build_levels, MipFilter};
+use super::rgba8::Rgba8Plane;
 use super::texel::Plane;
 use super::wrap::Wrap;
 use super::{Footprint, Texture};
+use crate::image::color::SrgbEncoder;
 use crate::image::Image;
 use glam::{Vec2, Vec4};
 use std::sync::Arc;
@@ -35,8 +37,14 @@ impl Default for TextureOptions {
 }
 
 pub struct FilteredTexture {
-    data: Arc<Filterable<Plane<Vec4>>>,
+    data: Arc<Levels>,
     options: TextureOptions,
+}
+
+/// The pyramid's storage: 8-bit texels for 8-bit sources, f32 for 16-bit and float ones.
+enum Levels {
+    Float(Filterable<Plane<Vec4>>),
+    Bytes(Filterable<Rgba8Plane>),
 }
 
 impl FilteredTexture {
@@ -44,7 +52,22 @@ impl FilteredTexture {
     pub fn new(image: &Image<[f32; 4]>, options: TextureOptions) -> Self {
         let rows: Vec<Vec4> = image.pixels.iter().map(|&p| Vec4::from(p)).collect();
         let plane = Plane::from_top_rows(image.width, image.height, &rows);
-        FilteredTexture { data: Arc::new(Filterable::new(plane, options.mip_filter, options.wrap)), options }
+        FilteredTexture {
+            data: Arc::new(Levels::Float(Filterable::new(plane, options.mip_filter, options.wrap))),
+            options,
+        }
+    }
+
+    /// A texture from 8-bit RGBA bytes as stored (row 0 at the top); `srgb`: the colour channels are
+    /// sRGB-encoded. The pyramid is built in linear light in f32 and stored in 8 bits; level 0 keeps the bytes.
+    pub fn from_rgba8(image: &Image<[u8; 4]>, srgb: bool, options: TextureOptions) -> Self {
+        let base = Rgba8Plane::from_top_rows(image.width, image.height, &image.pixels, srgb);
+        let float = build_levels(base.decode(), options.mip_filter, options.wrap);
+        let encoder = SrgbEncoder::new();
+        let levels =
+            std::iter::once(base).chain(float.iter().skip(1).map(|l| Rgba8Plane::encode(l, srgb, &encoder))).collect();
+        let data = Filterable::from_levels(levels, options.mip_filter, options.wrap);
+        FilteredTexture { data: Arc::new(Levels::Bytes(data)), options }
     }
 
     /// The same texture data looked up with other filter options (the pyramid is shared, not rebuilt).
@@ -57,10 +80,6 @@ impl FilteredTexture {
         FilteredTexture { data: Arc::clone(&self.data), options: TextureOptions { repeat, ..self.options } }
     }
 
-    pub fn data(&self) -> &Filterable<Plane<Vec4>> {
-        &self.data
-    }
-
     pub fn options(&self) -> &TextureOptions {
         &self.options
     }
@@ -68,7 +87,10 @@ impl FilteredTexture {
     /// The filtered texture at (s, t) of one period, footprint in the same units.
     #[inline]
     pub fn lookup(&self, s: f32, t: f32, fp: &Footprint) -> Vec4 {
-        self.data.sample(&self.options.filter, self.options.border, s, t, fp)
+        match &*self.data {
+            Levels::Float(d) => d.sample(&self.options.filter, self.options.border, s, t, fp),
+            Levels::Bytes(d) => d.sample(&self.options.filter, self.options.border, s, t, fp),
+        }
     }
 }
 

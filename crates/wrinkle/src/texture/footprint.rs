@@ -19,11 +19,11 @@ impl Footprint {
     /// (Williams 1983); 0 when the pixel covers less than one texel.
     pub fn mip_level(&self, width: usize, height: usize) -> f32 {
         let (w, h) = (width as f32, height as f32);
-        let lx = (self.dudx * w).hypot(self.dvdx * h);
-        let ly = (self.dudy * w).hypot(self.dvdy * h);
-        let len = lx.max(ly);
-        if len > 1.0 {
-            len.log2()
+        let (ux, vx, uy, vy) = (self.dudx * w, self.dvdx * h, self.dudy * w, self.dvdy * h);
+        // log2 of the longer length from its square: no square root, no hypot call.
+        let len2 = (ux * ux + vx * vx).max(uy * uy + vy * vy);
+        if len2 > 1.0 {
+            0.5 * len2.log2()
         } else {
             0.0
         }

@@ -9,6 +9,7 @@ pub mod ground_truth;
 pub mod image_texture;
 pub mod mip;
 pub mod reconstruct;
+pub mod rgba8;
 pub mod ripmap;
 pub mod sat;
 pub mod texel;

@@ -119,8 +119,16 @@ pub fn bilinear<S: TexelSource>(src: &S, addr: &Addressing<S::Texel>, s: f32, t:
     let (xf, yf) = (x.floor(), y.floor());
     let (fx, fy) = (x - xf, y - yf);
     let (i, j) = (xf as isize, yf as isize);
-    let bottom = lerp(addr.fetch(src, i, j), addr.fetch(src, i + 1, j), fx);
-    let top = lerp(addr.fetch(src, i, j + 1), addr.fetch(src, i + 1, j + 1), fx);
+    // Each axis resolved once (two indices), not per texel: four compares for the four taps.
+    let (w, h) = (src.width(), src.height());
+    let (i0, i1) = (addr.wrap[0].resolve(i, w), addr.wrap[0].resolve(i + 1, w));
+    let (j0, j1) = (addr.wrap[1].resolve(j, h), addr.wrap[1].resolve(j + 1, h));
+    let at = |i: Option<usize>, j: Option<usize>| match (i, j) {
+        (Some(i), Some(j)) => src.texel(i, j),
+        _ => addr.border,
+    };
+    let bottom = lerp(at(i0, j0), at(i1, j0), fx);
+    let top = lerp(at(i0, j1), at(i1, j1), fx);
     lerp(bottom, top, fy)
 }
 
