@@ -111,7 +111,8 @@ pub fn load_rgba_linear(path: &Path, srgb: bool) -> Result<Image<[f32; 4]>> {
     Ok(match load_texels(path, srgb)? {
         Texels::Linear(image) => image,
         Texels::Rgba8(image) => {
-            let table = if srgb { super::color::srgb8_decode_table() } else { std::array::from_fn(|i| i as f32 / 255.0) };
+            let table =
+                if srgb { super::color::srgb8_decode_table() } else { std::array::from_fn(|i| i as f32 / 255.0) };
             let pixels = image
                 .pixels
                 .iter()
