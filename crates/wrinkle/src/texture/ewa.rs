@@ -153,22 +153,33 @@ pub fn sample<S: TexelSource>(
     let to_index = TABLE_SIZE as f32 / (RADIUS * RADIUS);
     let mut sum = S::Texel::default();
     let mut wsum = 0.0f32;
+    let inside = i0 >= 0 && j0 >= 0 && (i1 as usize) < w && (j1 as usize) < h;
     for j in j0..=j1 {
         let dy = j as f32 - cy;
-        let row = addr.wrap[1].resolve(j, h);
         let (qb, qc) = (kb * dy, kc * dy * dy);
+        if inside {
+            // The whole ellipse lies on the texture: no wrap to resolve per texel.
+            for i in i0..=i1 {
+                let dx = i as f32 - cx;
+                let k = (((ka * dx + qb) * dx + qc) * to_index) as usize;
+                if k < TABLE_SIZE {
+                    sum = sum + src.texel(i as usize, j as usize) * table[k];
+                    wsum += table[k];
+                }
+            }
+            continue;
+        }
+        let row = addr.wrap[1].resolve(j, h);
         for i in i0..=i1 {
             let dx = i as f32 - cx;
-            let q = (ka * dx + qb) * dx + qc;
-            let k = (q * to_index) as usize;
+            let k = (((ka * dx + qb) * dx + qc) * to_index) as usize;
             if k < TABLE_SIZE {
-                let wgt = table[k];
                 let texel = match (row, addr.wrap[0].resolve(i, w)) {
                     (Some(r), Some(c)) => src.texel(c, r),
                     _ => addr.border,
                 };
-                sum = sum + texel * wgt;
-                wsum += wgt;
+                sum = sum + texel * table[k];
+                wsum += table[k];
             }
         }
     }
