@@ -202,6 +202,28 @@ mod tests {
         }
     }
 
+    /// Far outside a texture with `border` wrap, every filter returns the border colour; with `clamp`, the
+    /// edge texel's colour.
+    #[test]
+    fn border_and_clamp_outside_the_texture() {
+        let (w, h) = (16, 8);
+        let texels =
+            (0..w * h).map(|k| if k % w == w - 1 { Vec4::new(0.0, 1.0, 0.0, 1.0) } else { Vec4::ONE }).collect();
+        let plane = Plane { width: w, height: h, texels };
+        let border = Vec4::new(1.0, 0.0, 0.0, 1.0);
+        let bordered = Filterable::new(plane.clone(), MipFilter::Box, [Wrap::Border; 2]);
+        let clamped = Filterable::new(plane, MipFilter::Box, [Wrap::Clamp, Wrap::Repeat]);
+        let fp = Footprint { dudx: 0.5 / w as f32, dvdx: 0.0, dudy: 0.0, dvdy: 0.5 / h as f32 };
+        for filter in every_filter() {
+            let opts = FilterOptions { filter, ..FilterOptions::default() };
+            let got = bordered.sample(&opts, border, 3.0, 0.5, &fp);
+            assert!((got - border).abs().max_element() < 1e-5, "{filter:?} border: {got}");
+            // To the right of the green last column, clamped: green.
+            let got = clamped.sample(&opts, border, 1.8, 0.5, &fp);
+            assert!((got - Vec4::new(0.0, 1.0, 0.0, 1.0)).abs().max_element() < 1e-5, "{filter:?} clamp: {got}");
+        }
+    }
+
     /// A ramp in u: every filter returns the ramp's value at the footprint's centre, away from the edges.
     #[test]
     fn linear_ramp_returns_its_value_at_the_centre() {

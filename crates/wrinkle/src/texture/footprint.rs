@@ -59,5 +59,8 @@ mod tests {
         assert_eq!(fp.mip_level(16, 16), 0.0);
         let r = fp.replicated(2.0, 1.0);
         assert!((r.mip_level(256, 256) - 3.0).abs() < 1e-6);
+        // The area rule: 4 x 1 texels is an area of 4, a level of log2(sqrt(4)) = 1.
+        assert!((fp.mip_level_area(256, 256) - 1.0).abs() < 1e-6);
+        assert_eq!(fp.mip_level_area(16, 16), 0.0);
     }
 }
