@@ -256,7 +256,7 @@ mod tests {
     #[test]
     fn checkerboard_pyramid_converges_to_linear_mean_grey() {
         for (w, h) in [(64, 64), (45, 27)] {
-            let encoded = |x: usize, y: usize| if (x + y) % 2 == 0 { 0.0 } else { 1.0 };
+            let encoded = |x: usize, y: usize| if (x + y).is_multiple_of(2) { 0.0 } else { 1.0 };
             let texels = (0..w * h).map(|k| Vec4::splat(srgb_to_linear(encoded(k % w, k / w)))).collect();
             let plane = Plane { width: w, height: h, texels };
             let mean = plane.texels.iter().map(|t| t.x as f64).sum::<f64>() / (w * h) as f64;
