@@ -1,6 +1,6 @@
 //! `wrinkle bench`: renders a scene repeatedly in-process and prints the median time per frame.
 
-use crate::render::{load_scene, FrameArgs};
+use crate::render::FrameArgs;
 use clap::Args;
 use std::path::PathBuf;
 use wrinkle::{render, Error, Result};
@@ -34,7 +34,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         return Err(Error::Invalid(format!("--frames must be between 1 and 10000, got {}", args.frames)));
     }
     let options = args.frame.options()?;
-    let scene = load_scene(args.scene.as_deref())?;
+    let scene = args.frame.load_scene(args.scene.as_deref())?;
     render(&scene, &options)?;
     let mut totals = Vec::with_capacity(args.frames);
     let mut stages: [Vec<f64>; 4] = Default::default();

@@ -1,11 +1,14 @@
 //! The `wrinkle` command: parses the command line and hands each subcommand to its own file.
 
 mod bench;
+mod bench_texture;
 mod bump_image;
 mod bumpgen;
 mod emboss;
+mod filters;
 mod heightmap;
 mod image_args;
+mod mipmap;
 mod normalmap;
 mod output;
 mod render;
@@ -39,6 +42,12 @@ enum Command {
     Normalmap(normalmap::NormalmapArgs),
     /// Integrate a normal map back to a grey height image (Frankot-Chellappa).
     Heightmap(heightmap::HeightmapArgs),
+    /// Render one view with every texture filter beside a ground truth; print each filter's time and error.
+    Filters(filters::FiltersArgs),
+    /// Build a texture's MIP pyramid in linear light and write it as an atlas or one PNG per level.
+    Mipmap(mipmap::MipmapArgs),
+    /// Time texture lookups per filter (isotropic and 8:1 footprints, random and scanline order) and the pyramid build.
+    BenchTexture(bench_texture::BenchTextureArgs),
 }
 
 fn main() -> ExitCode {
@@ -69,6 +78,9 @@ fn main() -> ExitCode {
         Command::Bump(a) => bump_image::run(a),
         Command::Normalmap(a) => normalmap::run(a),
         Command::Heightmap(a) => heightmap::run(a),
+        Command::Filters(a) => filters::run(a),
+        Command::Mipmap(a) => mipmap::run(a),
+        Command::BenchTexture(a) => bench_texture::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,16 +1,18 @@
 //! `wrinkle render`: one frame, or a turntable animation of numbered frames.
 
 use crate::output::{format_of, write_outputs};
+use clap::builder::PossibleValuesParser;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use wrinkle::render::Aovs;
 use wrinkle::shade::BumpFilter;
+use wrinkle::texture::Filter;
 use wrinkle::{render_with_progress, Error, RenderOptions, Result, Scene};
 
 #[derive(Args, Debug)]
 #[command(
-    after_help = "Examples:\n  wrinkle render -o cover.png                       the embedded 1978 cover scene\n  wrinkle render scenes/grid_patch.toml -o grid.png --spp 16\n  wrinkle render scene.toml -o out.png --aov normal,uv,depth,id\n  wrinkle render scenes/turntable.toml -o spin.png --frames 36 --turntable"
+    after_help = "Examples:\n  wrinkle render -o cover.png                       the embedded 1978 cover scene\n  wrinkle render scenes/grid_patch.toml -o grid.png --spp 16\n  wrinkle render scene.toml -o out.png --aov normal,uv,depth,id\n  wrinkle render scene.toml -o out.png --filter ewa --bump-filter trilinear\n  wrinkle render scenes/turntable.toml -o spin.png --frames 36 --turntable"
 )]
 pub struct RenderArgs {
     /// Scene file (TOML); the embedded cover scene when omitted.
@@ -53,9 +55,14 @@ pub struct FrameArgs {
     /// Render without bump mapping.
     #[arg(long)]
     pub no_bump: bool,
-    /// Filter every bump function: none (full-resolution table) or mip (MIP level from the pixel footprint).
-    #[arg(long, value_parser = ["none", "mip"])]
+    /// Filter every bump function: none (full-resolution table), mip (MIP level from the pixel footprint),
+    /// or any texture filter (trilinear, ripmap, sat, aniso, ewa, ...).
+    #[arg(long, value_parser = PossibleValuesParser::new(BumpFilter::choices().into_iter().map(|(n, _)| n)))]
     pub bump_filter: Option<String>,
+    /// Filter every colour texture with this filter instead of the scene's: nearest, bilinear, bicubic,
+    /// gaussian, lanczos (magnification only), trilinear, ripmap, sat, aniso, ewa, ...
+    #[arg(long, value_parser = PossibleValuesParser::new(Filter::ALL.map(|(n, _)| n)))]
+    pub filter: Option<String>,
 }
 
 impl FrameArgs {
@@ -66,14 +73,22 @@ impl FrameArgs {
             height: self.height,
             spp: self.spp,
             bump: !self.no_bump,
-            bump_filter: self
-                .bump_filter
-                .as_deref()
-                .map(|f| if f == "mip" { BumpFilter::Mip } else { BumpFilter::None }),
+            bump_filter: self.bump_filter.as_deref().and_then(BumpFilter::parse),
             ..RenderOptions::default()
         };
         options.validate()?;
         Ok(options)
+    }
+}
+
+impl FrameArgs {
+    /// The scene with `--filter` applied to its colour textures.
+    pub fn load_scene(&self, path: Option<&Path>) -> Result<Scene> {
+        let mut scene = load_scene(path)?;
+        if let Some(f) = self.filter.as_deref().and_then(Filter::parse) {
+            scene.set_texture_filter(f);
+        }
+        Ok(scene)
     }
 }
 
@@ -118,7 +133,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if args.frames > 1 && !args.turntable {
         return Err(Error::Invalid("--frames > 1 needs --turntable (the only animation so far)".into()));
     }
-    let scene = load_scene(args.scene.as_deref())?;
+    let scene = args.frame.load_scene(args.scene.as_deref())?;
     let animated = args.turntable && args.frames > 1;
     let bar = animated.then(|| {
         let bar = ProgressBar::new(args.frames as u64);

@@ -163,7 +163,15 @@ fn version_prints_the_version() {
 
 #[test]
 fn help_of_every_command_has_examples() {
-    for args in [&["--help"][..], &["render", "--help"], &["bumpgen", "--help"], &["bench", "--help"]] {
+    for args in [
+        &["--help"][..],
+        &["render", "--help"],
+        &["bumpgen", "--help"],
+        &["bench", "--help"],
+        &["filters", "--help"],
+        &["mipmap", "--help"],
+        &["bench-texture", "--help"],
+    ] {
         let run = wrinkle(args);
         assert_ok(&run);
         assert!(run.stdout.contains("Examples"), "{args:?}: {}", run.stdout);
@@ -503,4 +511,84 @@ fn unparsable_arguments_are_one_line() {
     assert_one_error(&render_default(&s, &["--spp"]), 2, &["--spp"], &s);
     assert_one_error(&wrinkle(&["bumpgen", "grid"]), 2, &["--output"], &s);
     assert_one_error(&wrinkle(&["frobnicate"]), 2, &["frobnicate"], &s);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Texture filters: filters, mipmap, bench-texture, --filter
+
+#[test]
+fn filters_writes_a_labelled_sheet_and_a_table_of_errors() {
+    let s = Scratch::new("filters");
+    let out = s.out("sheet.png");
+    let run =
+        wrinkle(&["filters", "-o", &out, "--width", "64", "--height", "48", "--filters", "bilinear,ewa", "--json"]);
+    assert_ok(&run);
+    // Two filters and the ground truth in one row of three 64 px panels with 4 px gaps; a 20 px label strip.
+    assert_eq!(png_header(&out), (3 * 68 + 4, 48 + 20 + 8, 8, 2));
+    assert_eq!(run.stdout.matches("\"filter\"").count(), 2, "{}", run.stdout);
+    // EWA is much closer to the ground truth than bilinear without MIP maps.
+    let psnr = |name: &str| -> f64 {
+        let line = run.stdout.lines().find(|l| l.contains(&format!("\"{name}\""))).unwrap();
+        line.split("\"psnr_db\": ").nth(1).unwrap().trim_end_matches(['}', ',']).parse().unwrap()
+    };
+    assert!(psnr("ewa") > psnr("bilinear") + 3.0, "{}", run.stdout);
+    assert_eq!(s.out_entries(), ["sheet.png"]);
+}
+
+#[test]
+fn filters_rejects_unknown_names() {
+    let s = Scratch::new("filters_bad");
+    let out = s.out("sheet.png");
+    let run = wrinkle(&["filters", "-o", &out, "--filters", "bilinear,fancy"]);
+    assert_one_error(&run, 2, &["--filters", "fancy", "ewa"], &s);
+}
+
+#[test]
+fn mipmap_writes_an_atlas_or_every_level() {
+    let s = Scratch::new("mipmap");
+    let tex = s.input("tex.png");
+    assert_ok(&wrinkle(&["bumpgen", "bricks", "-o", &tex, "--size", "32"]));
+    let atlas = s.out("atlas.png");
+    let run = wrinkle(&["mipmap", &tex, "-o", &atlas, "--filter", "lanczos"]);
+    assert_ok(&run);
+    assert!(run.stdout.contains("6 levels"), "{}", run.stdout);
+    // 32 wide, the 16-wide level to its right; RGBA.
+    assert_eq!(png_header(&atlas), (48, 32, 8, 6));
+    let levels = s.out("lv.png");
+    assert_ok(&wrinkle(&["mipmap", &tex, "-o", &levels, "--levels", "--linear"]));
+    for (k, side) in [32, 16, 8, 4, 2, 1].into_iter().enumerate() {
+        assert_eq!(png_header(&s.out(&format!("lv_{k}.png"))), (side, side, 8, 6));
+    }
+}
+
+#[test]
+fn mipmap_of_a_missing_file() {
+    let s = Scratch::new("mipmap_missing");
+    let run = wrinkle(&["mipmap", &s.input("nope.png"), "-o", &s.out("m.png")]);
+    assert_one_error(&run, 2, &["nope.png"], &s);
+}
+
+#[test]
+fn render_filter_overrides_the_scene_and_unknown_names_fail() {
+    let s = Scratch::new("render_filter");
+    let tex = s.input("tex.png");
+    assert_ok(&wrinkle(&["bumpgen", "grid", "-o", &tex, "--size", "32"]));
+    let scene = s.write_input(
+        "scene.toml",
+        scene_with("shape = \"sphere\"\n\n[object.material]\ntexture = { path = \"tex.png\", repeat = [8, 4] }\nfilter = \"sat\"\n"),
+    );
+    // The table form has no filter: the one beside it applies.
+    assert_ok(&render_scene(&s, &scene, &["--filter", "ewa", "--bump-filter", "aniso"]));
+    let bad = Scratch::new("render_filter_bad");
+    let run = render_scene(&bad, &scene, &["--filter", "fancy"]);
+    assert_eq!(run.code, 2, "{run:#?}");
+    assert!(run.stderr.contains("fancy"), "{}", run.stderr);
+}
+
+#[test]
+fn bench_texture_prints_rates() {
+    let run = wrinkle(&["bench-texture", "--size", "64", "--lookups", "1000", "--rounds", "1", "--filters", "sat"]);
+    assert_ok(&run);
+    assert!(run.stdout.contains("pyramid size=64x64"), "{}", run.stdout);
+    assert_eq!(run.stdout.matches("filter=sat").count(), 4, "{}", run.stdout);
 }

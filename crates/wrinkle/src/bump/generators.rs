@@ -221,7 +221,7 @@ fn smoothstep(t: f64) -> f64 {
 }
 
 /// The glyph of `c` in font8x8's basic set, '?' for characters outside it.
-fn glyph(c: char) -> [u8; 8] {
+pub fn glyph(c: char) -> [u8; 8] {
     BASIC_FONTS.get(if c.is_ascii() { c } else { '?' }).unwrap_or_default()
 }
 

@@ -1,6 +1,7 @@
 //! Bump functions as tables (Blinn section 3): F looked up by nearest (FVAL) or bilinear interpolation,
 //! Fu and Fv by central differences with E = one table step, periodic wrap, and a MIP pyramid of the
-//! table for filtering the bump function by the pixel footprint (section 5).
+//! table for filtering the bump function by the pixel footprint (section 5); every texture filter
+//! (trilinear, ripmap, SAT, anisotropic, EWA) reads the table through the same code as colour textures.
 //!
 //! Blinn's central difference of a lookup shifted by exactly one table step lands on the neighbouring
 //! texels with the same interpolation weights, so
@@ -14,7 +15,11 @@
 
 use crate::image::GreyImage;
 use crate::lanes::{CmpGe, F8, LANES};
-use crate::texture::{bilinear_taps, wrap01};
+use crate::texture::filter::{FilterOptions, Filterable};
+use crate::texture::mip::{MipFilter, Resample};
+use crate::texture::texel::{Plane, TexelSource};
+use crate::texture::{bilinear_taps, wrap01, Footprint, Wrap};
+use glam::Vec3;
 
 /// How F is read from the table between texel centres.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -33,65 +38,54 @@ pub struct BumpSample {
     pub ft: f32,
 }
 
-struct Level {
-    width: usize,
-    height: usize,
-    /// T, row 0 at the bottom (t near 0).
-    values: Vec<f32>,
-}
+/// One level of the table, T only (row 0 at the bottom, t near 0). As a texel source for the texture
+/// filters it reads (T, dT/ds, dT/dt) per texel, the derivatives by central differences on the fly, so
+/// every texture filter filters the bump function and its derivatives alike.
+#[derive(Clone, Debug)]
+pub struct Gradients(Plane<f32>);
 
-/// A periodic bump table with its MIP pyramid.
+/// A periodic bump table with its MIP pyramid (and, on first use by those filters, its ripmap and
+/// summed-area table).
 pub struct BumpTable {
-    levels: Vec<Level>,
+    data: Filterable<Gradients>,
 }
 
 impl BumpTable {
     /// The table from a grey image (row 0 at the top, as images are stored).
     pub fn new(image: &GreyImage) -> Self {
-        let (w, h) = (image.width, image.height);
-        let mut values: Vec<f32> = Vec::with_capacity(w * h);
-        for j in 0..h {
-            values.extend_from_slice(image.row(h - 1 - j));
-        }
-        let mut levels = vec![Level::new(w, h, values)];
-        let (mut w, mut h) = (w, h);
-        while w > 1 || h > 1 {
-            let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));
-            let smaller = box_resample(&levels[levels.len() - 1].values, w, h, nw, nh);
-            levels.push(Level::new(nw, nh, smaller));
-            (w, h) = (nw, nh);
-        }
-        BumpTable { levels }
+        let base = Gradients(Plane::from_top_rows(image.width, image.height, &image.pixels));
+        BumpTable { data: Filterable::new(base, MipFilter::Box, [Wrap::Repeat; 2]) }
     }
 
     pub fn width(&self) -> usize {
-        self.levels[0].width
+        self.data.width()
     }
 
     pub fn height(&self) -> usize {
-        self.levels[0].height
+        self.data.height()
     }
 
     pub fn level_count(&self) -> usize {
-        self.levels.len()
+        self.data.levels().len()
     }
 
     /// F at (s,t) on level 0, the way Blinn's FVAL does it (without derivatives).
     pub fn fval(&self, s: f32, t: f32, interp: Interp) -> f32 {
-        self.levels[0].lookup(s, t, interp)[0]
+        self.data.levels()[0].lookup(s, t, interp)[0]
     }
 
     /// F, Fs, Ft at (s,t). `level` selects the MIP level (fractional: linear between two levels);
     /// 0 is the full-resolution table, where E is one step of the table.
     #[inline]
     pub fn sample(&self, s: f32, t: f32, interp: Interp, level: f32) -> BumpSample {
-        let last = (self.levels.len() - 1) as f32;
+        let levels = self.data.levels();
+        let last = (levels.len() - 1) as f32;
         let level = level.clamp(0.0, last);
         let l0 = level.floor() as usize;
         let frac = level - l0 as f32;
-        let mut v = self.levels[l0].lookup(s, t, interp);
+        let mut v = levels[l0].lookup(s, t, interp);
         if frac > 0.0 {
-            let v1 = self.levels[l0 + 1].lookup(s, t, interp);
+            let v1 = levels[l0 + 1].lookup(s, t, interp);
             for k in 0..3 {
                 v[k] += frac * (v1[k] - v[k]);
             }
@@ -103,7 +97,8 @@ impl BumpTable {
     /// lookups compute their taps on all lanes at once; nearest ones go lane by lane.
     #[inline]
     pub fn sample8(&self, s: F8, t: F8, interp: Interp, level: usize) -> [F8; 3] {
-        let level = &self.levels[level.min(self.levels.len() - 1)];
+        let levels = self.data.levels();
+        let level = &levels[level.min(levels.len() - 1)];
         match interp {
             Interp::Bilinear => level.bilinear8(s, t),
             Interp::Nearest => {
@@ -113,16 +108,48 @@ impl BumpTable {
             }
         }
     }
+
+    /// F, Fs, Ft at (s,t) through any texture filter, `fp` the footprint in (s,t) units.
+    #[inline]
+    pub fn filtered(&self, s: f32, t: f32, fp: &Footprint, opts: &FilterOptions) -> BumpSample {
+        let v = self.data.sample(opts, Vec3::ZERO, s, t, fp);
+        BumpSample { f: v.x, fs: v.y, ft: v.z }
+    }
 }
 
-impl Level {
-    fn new(width: usize, height: usize, values: Vec<f32>) -> Level {
-        Level { width, height, values }
+impl TexelSource for Gradients {
+    type Texel = Vec3;
+    #[inline]
+    fn width(&self) -> usize {
+        self.0.width
     }
+    #[inline]
+    fn height(&self) -> usize {
+        self.0.height
+    }
+    #[inline]
+    fn texel(&self, i: usize, j: usize) -> Vec3 {
+        let (w, h) = (self.0.width, self.0.height);
+        let (ip, in_) = (if i == 0 { w - 1 } else { i - 1 }, if i + 1 == w { 0 } else { i + 1 });
+        let (jp, jn) = (if j == 0 { h - 1 } else { j - 1 }, if j + 1 == h { 0 } else { j + 1 });
+        Vec3::new(
+            self.at(i, j),
+            (self.at(in_, j) - self.at(ip, j)) * (w as f32 * 0.5),
+            (self.at(i, jn) - self.at(i, jp)) * (h as f32 * 0.5),
+        )
+    }
+}
 
+impl Resample for Gradients {
+    fn downsample(&self, nw: usize, nh: usize, filter: MipFilter, wrap: [Wrap; 2]) -> Self {
+        Gradients(self.0.downsample(nw, nh, filter, wrap))
+    }
+}
+
+impl Gradients {
     #[inline]
     fn at(&self, i: usize, j: usize) -> f32 {
-        self.values[j * self.width + i]
+        self.0.texels[j * self.0.width + i]
     }
 
     /// (T, dT/ds, dT/dt) at (s,t). The derivatives are Blinn's central differences with E = one step,
@@ -130,7 +157,8 @@ impl Level {
     /// four times smaller (and faster to stream through the cache) than storing the gradients.
     #[inline]
     fn lookup(&self, s: f32, t: f32, interp: Interp) -> [f32; 3] {
-        let (w, h) = (self.width, self.height);
+        let (w, h) = (self.0.width, self.0.height);
+        let values = &self.0.texels;
         let (hw, hh) = (w as f32 * 0.5, h as f32 * 0.5);
         let prev = |i: usize, n: usize| if i == 0 { n - 1 } else { i - 1 };
         let next = |i: usize, n: usize| if i + 1 == n { 0 } else { i + 1 };
@@ -148,8 +176,8 @@ impl Level {
                 let (j0, j1, fy) = bilinear_taps(t, h);
                 let (im, i2) = (prev(i0, w), next(i1, w));
                 let (jm, j2) = (prev(j0, h), next(j1, h));
-                let (r0, r1) = (&self.values[j0 * w..(j0 + 1) * w], &self.values[j1 * w..(j1 + 1) * w]);
-                let (rm, r2) = (&self.values[jm * w..(jm + 1) * w], &self.values[j2 * w..(j2 + 1) * w]);
+                let (r0, r1) = (&values[j0 * w..(j0 + 1) * w], &values[j1 * w..(j1 + 1) * w]);
+                let (rm, r2) = (&values[jm * w..(jm + 1) * w], &values[j2 * w..(j2 + 1) * w]);
                 let lerp2 = |a: f32, b: f32, c: f32, d: f32| {
                     let bottom = a + fx * (b - a);
                     bottom + fy * (c + fx * (d - c) - bottom)
@@ -165,7 +193,7 @@ impl Level {
     /// The bilinear `lookup` on eight lanes.
     #[inline]
     fn bilinear8(&self, s: F8, t: F8) -> [F8; 3] {
-        let (w, h) = (self.width, self.height);
+        let (w, h) = (self.0.width, self.0.height);
         let (cols, fx) = neighbourhood8(s, w);
         let (rows, fy) = neighbourhood8(t, h);
         // The twelve texels of the 4x4 neighbourhood that the three lookups read (the corners are unused):
@@ -173,7 +201,7 @@ impl Level {
         let mut texels = [[0.0f32; LANES]; 12];
         for i in 0..LANES {
             let (c, r) = (cols[i].map(|c| c as usize), rows[i].map(|r| r as usize));
-            let row = |j: usize| &self.values[r[j] * w..][..w];
+            let row = |j: usize| &self.0.texels[r[j] * w..][..w];
             let (rm, r0, r1, r2) = (row(0), row(1), row(2), row(3));
             let lane = [
                 r0[c[0]], r0[c[1]], r0[c[2]], r0[c[3]], r1[c[0]], r1[c[1]], r1[c[2]], r1[c[3]], rm[c[1]], rm[c[2]],
@@ -213,43 +241,6 @@ fn neighbourhood8(s: F8, n: usize) -> ([[u32; 4]; LANES], F8) {
         [if i0 == 0 { n - 1 } else { i0 - 1 }, i0, i1, if i1 + 1 == n { 0 } else { i1 + 1 }]
     });
     (taps, x - floor)
-}
-
-/// Box-filters a periodic `w` x `h` table to `nw` x `nh` (any sizes): each target texel averages the
-/// source area it covers, with fractional weights at its borders.
-fn box_resample(src: &[f32], w: usize, h: usize, nw: usize, nh: usize) -> Vec<f32> {
-    let weights = |n: usize, nn: usize| -> Vec<Vec<(usize, f32)>> {
-        let ratio = n as f64 / nn as f64;
-        (0..nn)
-            .map(|k| {
-                let (lo, hi) = (k as f64 * ratio, (k + 1) as f64 * ratio);
-                let mut taps = Vec::new();
-                let mut x = lo.floor() as usize;
-                while (x as f64) < hi {
-                    let cover = (hi.min(x as f64 + 1.0) - lo.max(x as f64)) / ratio;
-                    if cover > 0.0 {
-                        taps.push((x.min(n - 1), cover as f32));
-                    }
-                    x += 1;
-                }
-                taps
-            })
-            .collect()
-    };
-    let (wx, wy) = (weights(w, nw), weights(h, nh));
-    let mut out = Vec::with_capacity(nw * nh);
-    for ty in &wy {
-        for tx in &wx {
-            let mut sum = 0.0;
-            for &(y, ky) in ty {
-                for &(x, kx) in tx {
-                    sum += ky * kx * src[y * w + x];
-                }
-            }
-            out.push(sum);
-        }
-    }
-    out
 }
 
 #[cfg(test)]
@@ -316,6 +307,33 @@ mod tests {
                 assert!((got.ft - ft).abs() < 1e-4, "{interp:?} ft {} vs {ft}", got.ft);
                 assert!((got.f - t.fval(s, tt, interp)).abs() < 1e-6);
             }
+        }
+    }
+
+    /// Through the texture filters, the table and its derivatives are what Blinn's lookups give: bilinear
+    /// equals the bilinear FVAL with central differences, trilinear equals the table's own MIP lookup.
+    #[test]
+    fn texture_filters_read_the_same_table_and_derivatives() {
+        use crate::texture::{Filter, FilterOptions, Footprint};
+        let img = Image::from_fn(32, 16, |x, y| ((x * 7 + y * 3) % 5) as f32 / 4.0 + 0.1 * (x as f32).sin());
+        let t = BumpTable::new(&img);
+        let opts = |name: &str| FilterOptions { filter: Filter::parse(name).unwrap(), ..FilterOptions::default() };
+        for &(s, tt) in &[(0.13, 0.77), (0.51, 0.02), (0.97, 0.49)] {
+            let want = t.sample(s, tt, Interp::Bilinear, 0.0);
+            let got = t.filtered(s, tt, &Footprint::default(), &opts("bilinear"));
+            assert!(
+                (got.f - want.f).abs() < 1e-5 && (got.fs - want.fs).abs() < 1e-3 && (got.ft - want.ft).abs() < 1e-3
+            );
+            // A footprint of 2.5 texels: level log2(2.5) of the pyramid.
+            let fp = Footprint { dudx: 2.5 / 32.0, dvdx: 0.0, dudy: 0.0, dvdy: 1.0 / 16.0 };
+            let want = t.sample(s, tt, Interp::Bilinear, 2.5f32.log2());
+            let got = t.filtered(s, tt, &fp, &opts("trilinear"));
+            assert!(
+                (got.f - want.f).abs() < 1e-5 && (got.fs - want.fs).abs() < 1e-3 && (got.ft - want.ft).abs() < 1e-3
+            );
+            // EWA of the derivatives is the derivative of the EWA: close to trilinear's on this smooth scale.
+            let ewa = t.filtered(s, tt, &fp, &opts("ewa"));
+            assert!((ewa.f - want.f).abs() < 0.2, "{} vs {}", ewa.f, want.f);
         }
     }
 

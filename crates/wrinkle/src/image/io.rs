@@ -65,6 +65,79 @@ pub fn load_rgba8(path: &Path) -> Result<Image<[u8; 4]>> {
     Ok(Image { width, height, pixels })
 }
 
+/// A colour texture's texels as its file holds them: 8-bit bytes as stored (still sRGB-encoded where they
+/// are), or anything deeper already in linear light.
+pub enum Texels {
+    Rgba8(Image<[u8; 4]>),
+    Linear(Image<[f32; 4]>),
+}
+
+/// Loads a colour texture from 8-bit, 16-bit or float images (the formats of [`load_grey`], and OpenEXR by
+/// extension). 8-bit images come back as bytes; with `srgb`, 16-bit colour channels are decoded from sRGB to
+/// linear; float images are linear already. Alpha is never decoded; it is opaque where the file has none.
+pub fn load_texels(path: &Path, srgb: bool) -> Result<Texels> {
+    if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr")) {
+        return load_exr_rgba(path).map(Texels::Linear);
+    }
+    let img = decode(path)?;
+    let (width, height) = (img.width() as usize, img.height() as usize);
+    let float = matches!(img.color(), ::image::ColorType::Rgb32F | ::image::ColorType::Rgba32F);
+    Ok(if float {
+        Texels::Linear(Image { width, height, pixels: img.into_rgba32f().pixels().map(|p| p.0).collect() })
+    } else if img.color().bytes_per_pixel() / img.color().channel_count() == 1 {
+        Texels::Rgba8(Image { width, height, pixels: img.into_rgba8().pixels().map(|p| p.0).collect() })
+    } else {
+        let table: Vec<f32> = (0..=65535u32)
+            .map(|i| {
+                let v = i as f32 / 65535.0;
+                if srgb {
+                    super::color::srgb_to_linear(v)
+                } else {
+                    v
+                }
+            })
+            .collect();
+        let pixels = img
+            .into_rgba16()
+            .pixels()
+            .map(|p| [table[p[0] as usize], table[p[1] as usize], table[p[2] as usize], p[3] as f32 / 65535.0])
+            .collect();
+        Texels::Linear(Image { width, height, pixels })
+    })
+}
+
+/// A colour texture in linear light as RGBA f32: [`load_texels`] with 8-bit texels decoded too.
+pub fn load_rgba_linear(path: &Path, srgb: bool) -> Result<Image<[f32; 4]>> {
+    Ok(match load_texels(path, srgb)? {
+        Texels::Linear(image) => image,
+        Texels::Rgba8(image) => {
+            let table =
+                if srgb { super::color::srgb8_decode_table() } else { std::array::from_fn(|i| i as f32 / 255.0) };
+            let pixels = image
+                .pixels
+                .iter()
+                .map(|p| [table[p[0] as usize], table[p[1] as usize], table[p[2] as usize], p[3] as f32 / 255.0])
+                .collect();
+            Image { width: image.width, height: image.height, pixels }
+        }
+    })
+}
+
+/// R, G, B (and A when present) of an OpenEXR file; a single channel (Y or any name) is grey.
+fn load_exr_rgba(path: &Path) -> Result<Image<[f32; 4]>> {
+    let (width, height, channels) = read_exr_channels(path)?;
+    check_size(width, height).map_err(|m| Error::read(path, m))?;
+    let find = |name: &str| channels.iter().find(|(n, _)| n == name).map(|(_, v)| v);
+    let (r, g, b) = match (find("R"), find("G"), find("B")) {
+        (Some(r), Some(g), Some(b)) => (r, g, b),
+        _ if channels.len() == 1 => (&channels[0].1, &channels[0].1, &channels[0].1),
+        _ => return Err(Error::read(path, "expected channels R, G, B (or a single grey channel)")),
+    };
+    let a = find("A");
+    let pixels = (0..width * height).map(|k| [r[k], g[k], b[k], a.map_or(1.0, |a| a[k])]).collect();
+    Ok(Image { width, height, pixels })
+}
+
 /// Writes a file atomically: `write` fills a buffered temporary file `.{name}.{pid}.{n}.tmp`
 /// in the same directory, which is then renamed onto `path`. On any error the temporary file
 /// is removed and `path` is left as it was.
@@ -82,6 +155,12 @@ pub fn write_atomic(path: &Path, write: impl FnOnce(&mut dyn Write) -> Result<()
 pub fn write_png_rgb8(path: &Path, width: usize, height: usize, rgb: &[u8]) -> Result<()> {
     check_buffer(path, width, height, 3, rgb.len())?;
     write_png(path, width, height, png::ColorType::Rgb, png::BitDepth::Eight, rgb)
+}
+
+/// Writes an 8-bit RGBA PNG from `rgba`, 4 bytes per pixel, row 0 at the top.
+pub fn write_png_rgba8(path: &Path, width: usize, height: usize, rgba: &[u8]) -> Result<()> {
+    check_buffer(path, width, height, 4, rgba.len())?;
+    write_png(path, width, height, png::ColorType::Rgba, png::BitDepth::Eight, rgba)
 }
 
 /// Writes a 16-bit grey PNG: values clamped to [0, 1] and scaled by 65535, rounded (NaN gives 0).

@@ -152,6 +152,7 @@ pub fn render_with_progress(
         shade: &shade_ctx,
         background: cam.background,
         aovs: options.aovs,
+        sample_cell: (1.0 / options.spp as f32).sqrt(),
     };
     let (bands_done, bands) = (AtomicUsize::new(0), bins.tiles_y);
     let band_aovs: Vec<frame::AovBand> = frame
@@ -260,6 +261,8 @@ struct TileJob<'a> {
     shade: &'a ShadeContext<'a>,
     background: Vec3,
     aovs: Aovs,
+    /// The side of one sample's cell of the pixel (1/sqrt(spp)), which scales its footprint.
+    sample_cell: f32,
 }
 
 impl TileJob<'_> {
@@ -349,7 +352,9 @@ impl TileJob<'_> {
             let j = if i < packet.len { i } else { 0 };
             let (k, screen) = (packet.samples[j], packet.screen[j]);
             let at = vis.resolve(k, &self.triangles[packet.triangles[j] as usize], inst.object, screen);
-            let [dudx, dvdx, dudy, dvdy] = at.duv;
+            // Each of the spp stratified samples stands for its own 1/spp of the pixel: the texture filters
+            // integrate over that cell, not the whole pixel again.
+            let [dudx, dvdx, dudy, dvdy] = at.duv.map(|d| d * self.sample_cell);
             footprints[i] = Footprint { dudx, dvdx, dudy, dvdy };
             (u[i], v[i], sx[i], sy[i]) = (at.uv.x, at.uv.y, screen.x, screen.y);
         }

@@ -8,7 +8,6 @@ use crate::geometry::{Surface, Transform};
 use crate::image::io;
 use crate::raster::Projection;
 use crate::shade::{Bump, BumpFilter, Light, Material, Phong};
-use crate::texture::ImageTexture;
 use crate::{Error, Result};
 use glam::{Vec2, Vec3};
 use std::path::{Path, PathBuf};
@@ -256,9 +255,10 @@ fn default_material() -> Material {
 }
 
 fn parse_material(path: &str, v: &Value, base: &Path) -> Result<Material> {
-    let f = Fields::new(path, v, &["color", "texture", "specular", "shininess", "bump"])?;
+    let f = Fields::new(path, v, &["color", "texture", "filter", "specular", "shininess", "bump"])?;
     let texture = match f.get("texture") {
-        Some(t) => Some(parse_texture(&f.at("texture"), t, base)?),
+        Some(t) => Some(super::texture::parse_texture(&f.at("texture"), t, &f, base)?),
+        None if f.get("filter").is_some() => return Err(Error::scene(f.at("filter"), "only with a texture")),
         None => None,
     };
     let bump = match f.get("bump") {
@@ -276,7 +276,7 @@ fn parse_material(path: &str, v: &Value, base: &Path) -> Result<Material> {
     })
 }
 
-fn resolve(base: &Path, name: &str) -> PathBuf {
+pub(super) fn resolve(base: &Path, name: &str) -> PathBuf {
     let p = Path::new(name);
     if p.is_absolute() {
         p.to_path_buf()
@@ -286,25 +286,12 @@ fn resolve(base: &Path, name: &str) -> PathBuf {
 }
 
 /// A positive replication count per axis (default [1, 1]).
-fn repeat(f: &Fields) -> Result<Vec2> {
+pub(super) fn repeat(f: &Fields) -> Result<Vec2> {
     let r = f.vec2("repeat")?.unwrap_or(Vec2::ONE);
     if r.min_element() <= 0.0 {
         return Err(Error::scene(f.at("repeat"), format!("expected positive counts, got [{}, {}]", r.x, r.y)));
     }
     Ok(r)
-}
-
-fn parse_texture(path: &str, v: &Value, base: &Path) -> Result<Arc<dyn crate::texture::Texture>> {
-    let (file, repeat, srgb) = match v {
-        Value::String(s) => (s.as_str(), Vec2::ONE, true),
-        _ => {
-            let f = Fields::new(path, v, &["path", "repeat", "srgb"])?;
-            let file = f.required("path", f.string("path")?)?;
-            (file, repeat(&f)?, f.boolean("srgb", true)?)
-        }
-    };
-    let image = io::load_rgba8(&resolve(base, file))?;
-    Ok(Arc::new(ImageTexture::new(image, srgb, repeat)))
 }
 
 fn parse_bump(path: &str, v: &Value, base: &Path) -> Result<Bump> {
@@ -333,7 +320,7 @@ fn parse_bump(path: &str, v: &Value, base: &Path) -> Result<Bump> {
             &[("nearest", Interp::Nearest), ("bilinear", Interp::Bilinear)],
         )?,
         formula,
-        filter: f.choice("filter", BumpFilter::None, &[("none", BumpFilter::None), ("mip", BumpFilter::Mip)])?,
+        filter: f.choice("filter", BumpFilter::None, &BumpFilter::choices())?,
     })
 }
 

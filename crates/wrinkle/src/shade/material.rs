@@ -2,7 +2,7 @@
 
 use super::light::Phong;
 use crate::bump::{BumpFormula, BumpTable, Interp};
-use crate::texture::Texture;
+use crate::texture::{Filter, Texture};
 use glam::{Vec2, Vec3};
 use std::sync::Arc;
 
@@ -21,6 +21,21 @@ pub enum BumpFilter {
     None,
     /// The table's MIP level chosen from the pixel's (u,v) footprint.
     Mip,
+    /// Any texture filter (trilinear, ripmap, sat, aniso, ewa, ...) applied to the table and its
+    /// derivatives alike.
+    Filtered(Filter),
+}
+
+impl BumpFilter {
+    /// Every choice by name: `none`, `mip`, then every texture filter.
+    pub fn choices() -> Vec<(&'static str, BumpFilter)> {
+        let texture = Filter::ALL.iter().map(|&(n, f)| (n, BumpFilter::Filtered(f)));
+        [("none", BumpFilter::None), ("mip", BumpFilter::Mip)].into_iter().chain(texture).collect()
+    }
+
+    pub fn parse(name: &str) -> Option<BumpFilter> {
+        BumpFilter::choices().into_iter().find(|(n, _)| *n == name).map(|(_, f)| f)
+    }
 }
 
 /// A bump function: F(u,v) = scale * T(repeat_u u, repeat_v v).

@@ -12,7 +12,7 @@ use crate::bump::{BumpFormula, Perturbation};
 use crate::geometry::frame_lanes::Frame8;
 use crate::geometry::Surface;
 use crate::lanes::{CmpLt, F8, LANES, V3};
-use crate::texture::Footprint;
+use crate::texture::{FilterOptions, Footprint};
 use glam::{Affine3A, Mat3, Vec2, Vec3};
 
 /// One parametric surface placed in the world with its material.
@@ -145,12 +145,18 @@ impl Bump {
     pub fn perturbation(&self, uv: Vec2, footprint: &Footprint, filter: BumpFilter) -> Perturbation {
         let st = uv * self.repeat;
         let level = match filter {
-            BumpFilter::None => 0.0,
+            BumpFilter::None | BumpFilter::Filtered(_) => 0.0,
             BumpFilter::Mip => {
                 footprint.replicated(self.repeat.x, self.repeat.y).mip_level(self.table.width(), self.table.height())
             }
         };
-        let b = self.table.sample(st.x, st.y, self.interp, level);
+        let b = match filter {
+            BumpFilter::Filtered(f) => {
+                let fp = footprint.replicated(self.repeat.x, self.repeat.y);
+                self.table.filtered(st.x, st.y, &fp, &FilterOptions { filter: f, ..FilterOptions::default() })
+            }
+            _ => self.table.sample(st.x, st.y, self.interp, level),
+        };
         Perturbation {
             f: self.scale * b.f,
             fu: self.scale * self.repeat.x * b.fs,

@@ -19,14 +19,32 @@ impl Footprint {
     /// (Williams 1983); 0 when the pixel covers less than one texel.
     pub fn mip_level(&self, width: usize, height: usize) -> f32 {
         let (w, h) = (width as f32, height as f32);
-        let lx = (self.dudx * w).hypot(self.dvdx * h);
-        let ly = (self.dudy * w).hypot(self.dvdy * h);
-        let len = lx.max(ly);
-        if len > 1.0 {
-            len.log2()
+        let (ux, vx, uy, vy) = (self.dudx * w, self.dvdx * h, self.dudy * w, self.dvdy * h);
+        // log2 of the longer length from its square: no square root, no hypot call.
+        let len2 = (ux * ux + vx * vx).max(uy * uy + vy * vy);
+        if len2 > 1.0 {
+            0.5 * len2.log2()
         } else {
             0.0
         }
+    }
+
+    /// The MIP level from the pixel's area instead (the slides' alternative): log2 of the square root of
+    /// the area of the parallelogram the pixel covers, in texels; 0 below one texel.
+    pub fn mip_level_area(&self, width: usize, height: usize) -> f32 {
+        let area = ((self.dudx * self.dvdy - self.dudy * self.dvdx) * (width * height) as f32).abs();
+        if area > 1.0 {
+            0.5 * area.log2()
+        } else {
+            0.0
+        }
+    }
+
+    /// The footprint measured in texels of a `width` x `height` level: (du/dx, dv/dx, du/dy, dv/dy) * size.
+    #[inline]
+    pub fn in_texels(&self, width: usize, height: usize) -> [f32; 4] {
+        let (w, h) = (width as f32, height as f32);
+        [self.dudx * w, self.dvdx * h, self.dudy * w, self.dvdy * h]
     }
 }
 
@@ -41,5 +59,8 @@ mod tests {
         assert_eq!(fp.mip_level(16, 16), 0.0);
         let r = fp.replicated(2.0, 1.0);
         assert!((r.mip_level(256, 256) - 3.0).abs() < 1e-6);
+        // The area rule: 4 x 1 texels is an area of 4, a level of log2(sqrt(4)) = 1.
+        assert!((fp.mip_level_area(256, 256) - 1.0).abs() < 1e-6);
+        assert_eq!(fp.mip_level_area(16, 16), 0.0);
     }
 }

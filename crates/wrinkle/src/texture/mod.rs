@@ -1,10 +1,26 @@
 //! Textures: sources sampled at (u,v) with the pixel's footprint in texture space.
 
+pub mod aniso;
+pub mod ewa;
+pub mod filter;
+pub mod filtered;
 pub mod footprint;
+pub mod ground_truth;
 pub mod image_texture;
+pub mod mip;
+pub mod reconstruct;
+pub mod rgba8;
+pub mod ripmap;
+pub mod sat;
+pub mod texel;
+pub mod wrap;
 
+pub use filter::{Filter, FilterOptions, Filterable};
+pub use filtered::{FilteredTexture, TextureOptions};
 pub use footprint::Footprint;
 pub use image_texture::ImageTexture;
+pub use mip::{LevelRule, MipFilter};
+pub use wrap::Wrap;
 
 use glam::{Vec2, Vec4};
 
@@ -13,6 +29,12 @@ use glam::{Vec2, Vec4};
 pub trait Texture: Send + Sync {
     /// Linear-light RGBA at `uv` (one period is [0,1]; the source decides how it wraps).
     fn sample(&self, uv: Vec2, footprint: &Footprint) -> Vec4;
+
+    /// The same texture looked up with another filter (`--filter` overriding a scene), where the source
+    /// has a choice of filters; `None` keeps it as it is.
+    fn with_filter(&self, _filter: Filter) -> Option<std::sync::Arc<dyn Texture>> {
+        None
+    }
 }
 
 /// Wraps a coordinate into [0, 1) periodically.

@@ -1,0 +1,196 @@
+//! `wrinkle bench-texture`: lookups per second of each texture filter on a large RGBA8 texture, for
+//! isotropic and 8:1 anisotropic footprints, in random and in scanline order, on one thread and on all;
+//! and the time to build the MIP pyramid.
+
+use clap::Args;
+use glam::{Vec2, Vec4};
+use rayon::prelude::*;
+use std::hint::black_box;
+use std::time::Instant;
+use wrinkle::image::color::srgb8_decode_table;
+use wrinkle::image::Image;
+use wrinkle::texture::mip::build_levels;
+use wrinkle::texture::texel::Plane;
+use wrinkle::texture::{Filter, FilterOptions, FilteredTexture, Footprint, MipFilter, TextureOptions, Wrap};
+use wrinkle::{Error, Result};
+
+#[derive(Args, Debug)]
+#[command(
+    after_help = "Examples:\n  wrinkle bench-texture                                  4096x4096, trilinear, aniso and ewa\n  wrinkle bench-texture --filters bilinear,trilinear,ripmap,sat,aniso,ewa --lookups 4000000\n  wrinkle bench-texture --size 1024 --threads 1"
+)]
+pub struct BenchTextureArgs {
+    /// Texture side in texels (RGBA8, sRGB).
+    #[arg(long, default_value_t = 4096)]
+    pub size: usize,
+    /// Lookups per timed run.
+    #[arg(long, default_value_t = 1_000_000)]
+    pub lookups: usize,
+    /// Filters to time (comma-separated).
+    #[arg(long, value_delimiter = ',', default_value = "trilinear,aniso,ewa")]
+    pub filters: Vec<String>,
+    /// Timed runs per figure; the median is printed.
+    #[arg(long, default_value_t = 3)]
+    pub rounds: usize,
+    /// Worker threads for the all-cores figures and the pyramid (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+/// One lookup: where and how large.
+struct Lookup {
+    st: Vec2,
+    fp: Footprint,
+}
+
+/// A small xorshift generator: the same sets on every run.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> f32 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 40) as f32 / (1u64 << 24) as f32
+    }
+}
+
+/// A footprint of width `w` (one period units), `ratio`:1 anisotropic (major axis `ratio` w), at `angle`.
+fn footprint(w: f32, ratio: f32, angle: f32) -> Footprint {
+    let (c, s) = (angle.cos(), angle.sin());
+    Footprint { dudx: ratio * w * c, dvdx: ratio * w * s, dudy: -w * s, dvdy: w * c }
+}
+
+/// Widths log-uniform between 1/4096 and 1/64.
+fn width(rng: &mut Rng) -> f32 {
+    (2f32).powf(-12.0 + 6.0 * rng.next())
+}
+
+/// `n` lookups at random (s, t), or walking along rows one footprint width apart (as a render reads).
+fn lookups(n: usize, ratio: f32, scanline: bool) -> Vec<Lookup> {
+    let mut rng = Rng(0x9E37_79B9_7F4A_7C15 ^ (ratio as u64) ^ (scanline as u64) << 8);
+    if !scanline {
+        return (0..n)
+            .map(|_| Lookup {
+                st: Vec2::new(rng.next(), rng.next()),
+                fp: footprint(width(&mut rng), ratio, rng.next() * std::f32::consts::TAU),
+            })
+            .collect();
+    }
+    let mut out = Vec::with_capacity(n);
+    while out.len() < n {
+        // One row of 256 lookups: one width and angle, the start anywhere.
+        let (w, angle) = (width(&mut rng), rng.next() * std::f32::consts::TAU);
+        let start = Vec2::new(rng.next(), rng.next());
+        for k in 0..256.min(n - out.len()) {
+            out.push(Lookup { st: start + Vec2::new(k as f32 * w, 0.0), fp: footprint(w, ratio, angle) });
+        }
+    }
+    out
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// CPU time this thread has run, in seconds (Linux schedstat), so that one-thread rates on a shared,
+/// loaded machine count the time the thread actually ran, not the time it waited for a core.
+fn thread_cpu_s() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    Some(text.split_whitespace().next()?.parse::<f64>().ok()? * 1e-9)
+}
+
+/// Million lookups per second, on this thread or on every worker: (per wall-clock second, per CPU second of
+/// this thread when on one thread).
+fn rate(tex: &FilteredTexture, set: &[Lookup], parallel: bool, rounds: usize) -> (f64, Option<f64>) {
+    let run = |chunk: &[Lookup]| chunk.iter().fold(Vec4::ZERO, |acc, l| acc + tex.lookup(l.st.x, l.st.y, &l.fp));
+    let (mut wall, mut cpu) = (Vec::new(), Vec::new());
+    for _ in 0..rounds {
+        let (t, c) = (Instant::now(), thread_cpu_s());
+        let sum = if parallel { set.par_chunks(4096).map(run).reduce(|| Vec4::ZERO, |a, b| a + b) } else { run(set) };
+        black_box(sum);
+        wall.push(t.elapsed().as_secs_f64());
+        if let (Some(c0), Some(c1)) = (c, thread_cpu_s()) {
+            cpu.push(c1 - c0);
+        }
+    }
+    let per_s = |v: Vec<f64>| set.len() as f64 / median(v) / 1e6;
+    (per_s(wall), (!parallel && cpu.len() == rounds).then(|| per_s(cpu)))
+}
+
+pub fn run(args: &BenchTextureArgs) -> Result<()> {
+    crate::set_threads(args.threads)?;
+    if !(16..=16384).contains(&args.size) {
+        return Err(Error::Invalid(format!("--size must be between 16 and 16384, got {}", args.size)));
+    }
+    if args.lookups == 0 || args.lookups > 100_000_000 {
+        return Err(Error::Invalid(format!("--lookups must be between 1 and 100000000, got {}", args.lookups)));
+    }
+    if args.rounds == 0 || args.rounds > 100 {
+        return Err(Error::Invalid(format!("--rounds must be between 1 and 100, got {}", args.rounds)));
+    }
+    let filters = args
+        .filters
+        .iter()
+        .map(|n| {
+            Filter::parse(n.trim()).ok_or_else(|| {
+                Error::Invalid(format!("--filters: unknown filter \"{n}\" (expected {})", Filter::names()))
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let n = args.size;
+    let threads = rayon::current_num_threads();
+    // Value noise with some structure: every texel different, like a photograph at this scale.
+    let mut rng = Rng(7);
+    let bytes: Vec<[u8; 4]> = (0..n * n).map(|_| [0, 1, 2, 3].map(|_| (rng.next() * 255.0) as u8)).collect();
+    let image = Image { width: n, height: n, pixels: bytes };
+    // The pyramid alone: every level from the decoded full-resolution texture, in linear light.
+    let decode = srgb8_decode_table();
+    let base = Plane::from_top_rows(
+        n,
+        n,
+        &image
+            .pixels
+            .iter()
+            .map(|p| {
+                Vec4::new(decode[p[0] as usize], decode[p[1] as usize], decode[p[2] as usize], p[3] as f32 / 255.0)
+            })
+            .collect::<Vec<_>>(),
+    );
+    let builds: Vec<f64> = (0..args.rounds)
+        .map(|_| {
+            let b = base.clone();
+            let t = Instant::now();
+            black_box(build_levels(b, MipFilter::Box, [Wrap::Repeat; 2]));
+            t.elapsed().as_secs_f64() * 1e3
+        })
+        .collect();
+    drop(base);
+    // The whole texture as a scene loads it: decode, pyramid, levels stored in 8 bits.
+    let t = Instant::now();
+    let texture = FilteredTexture::from_rgba8(&image, true, TextureOptions::default());
+    let whole_ms = t.elapsed().as_secs_f64() * 1e3;
+    println!(
+        "pyramid size={n}x{n} filter=box threads={threads} build_ms={:.1} texture_ms={whole_ms:.1} (texture: sRGB decode, pyramid, 8-bit levels)",
+        median(builds)
+    );
+    drop(image);
+    for filter in filters {
+        let tex = texture.with_options(FilterOptions { filter, ..FilterOptions::default() });
+        // Ripmaps and summed-area tables are built on first use: not part of the lookups timed.
+        tex.lookup(0.5, 0.5, &footprint(1.0 / 256.0, 1.0, 0.0));
+        for (shape, ratio) in [("iso", 1.0), ("aniso8", 8.0)] {
+            for (order, scanline) in [("random", false), ("scanline", true)] {
+                let set = lookups(args.lookups, ratio, scanline);
+                let (one, one_cpu) = rate(&tex, &set, false, args.rounds);
+                let (all, _) = rate(&tex, &set, true, args.rounds);
+                let cpu = one_cpu.map_or(String::new(), |c| format!(" mlookups_per_cpu_s_1thread={c:.2}"));
+                println!(
+                    "filter={} footprint={shape} order={order} mlookups_per_s_1thread={one:.2}{cpu} mlookups_per_s_{threads}threads={all:.2}",
+                    filter.name()
+                );
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,274 @@
+//! `wrinkle filters`: one view rendered with every texture filter side by side, labelled, beside a ground
+//! truth panel, with the time and error of each filter against that ground truth.
+//!
+//! The ground truth renders 16 stratified samples per pixel, each at its exact (u,v) on the surface, and
+//! integrates the bilinear texture over each sample's quarter-pixel cell with 8 x 8 more samples: the
+//! integral over the pixel's preimage from 32 x 32 samples.
+
+use crate::render::load_scene;
+use clap::Args;
+use glam::Vec2;
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Instant;
+use wrinkle::bump::generators::{glyph, text as text_image, TextParams};
+use wrinkle::image::color::{srgb_to_linear, SrgbEncoder};
+use wrinkle::image::{io, Image};
+use wrinkle::texture::{Filter, FilteredTexture, TextureOptions};
+use wrinkle::{render, Error, RenderOptions, Result, Scene};
+
+#[derive(Args, Debug)]
+#[command(
+    after_help = "Examples:\n  wrinkle filters -o sheet.png                    the classic view: a checkerboard plane to the horizon and a lettered sphere\n  wrinkle filters scene.toml -o sheet.png --json  any scene: every colour texture takes each filter in turn\n  wrinkle filters -o sheet.png --filters bilinear,trilinear,ewa --width 480 --height 360"
+)]
+pub struct FiltersArgs {
+    /// Scene file (TOML); the classic grazing-plane view when omitted.
+    pub scene: Option<PathBuf>,
+    /// The sheet (PNG).
+    #[arg(short, long, default_value = "filters.png")]
+    pub output: PathBuf,
+    /// Width of each panel.
+    #[arg(long, default_value_t = 320)]
+    pub width: usize,
+    /// Height of each panel.
+    #[arg(long, default_value_t = 240)]
+    pub height: usize,
+    /// The filters to compare (comma-separated); default: every filter.
+    #[arg(long, value_delimiter = ',')]
+    pub filters: Vec<String>,
+    /// Panels per row of the sheet.
+    #[arg(long, default_value_t = 4)]
+    pub columns: usize,
+    /// Print the table as JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+/// The filters of the sheet by default, in the order of the slides' ladder.
+const DEFAULT_FILTERS: [&str; 11] =
+    ["nearest", "bilinear", "bicubic", "gaussian", "lanczos", "trilinear", "ripmap", "sat", "aniso", "ewa", "bspline"];
+
+/// The classic view: a plane receding to the horizon and a sphere, lit softly so the textures dominate.
+/// The plane is laid as rows of patches that double in size with distance (the renderer tessellates a
+/// patch uniformly, so one huge patch would cost a million triangles).
+const CLASSIC: &str = r#"
+[camera]
+eye = [0.0, 1.1, 4.0]
+look_at = [0.0, 0.55, -4.0]
+fov_y = 50.0
+background = [0.55, 0.7, 0.9]
+
+[[light]]
+type = "ambient"
+intensity = 0.55
+
+[[light]]
+type = "directional"
+direction = [-0.4, -1.0, -0.5]
+intensity = 0.6
+
+[[object]]
+shape = "sphere"
+radius = 0.75
+transform = { translate = [1.3, 0.75, 0.6], rotate = [0.0, 200.0, 0.0] }
+material = { color = [1.0, 1.0, 1.0], specular = 0.2, shininess = 30.0 }
+"#;
+
+/// The checkerboard's period on the plane, in world units.
+const PERIOD: f32 = 4.0;
+/// The plane's rows: (near z, far z, half width). Boundaries and widths are whole periods apart, so the
+/// checks run on unbroken from row to row.
+const ROWS: [(f32, f32, f32); 6] = [
+    (3.0, -1.0, 4.0),
+    (-1.0, -9.0, 12.0),
+    (-9.0, -25.0, 20.0),
+    (-25.0, -57.0, 44.0),
+    (-57.0, -121.0, 88.0),
+    (-121.0, -249.0, 180.0),
+];
+
+/// The classic scene with its textures: a 64 x 64 checkerboard (4-texel checks, one period every 4 units)
+/// on the plane, and "TEXTURE" in 8 x 8 letters around the sphere.
+fn classic_scene() -> Result<Scene> {
+    let mut text = CLASSIC.to_string();
+    for (near, far, half) in ROWS {
+        text += &format!(
+            "\n[[object]]\nshape = \"patch\"\ncorners = [[{}, 0.0, {near}], [{half}, 0.0, {near}], [{half}, 0.0, {far}], [{}, 0.0, {far}]]\nmaterial = {{ color = [1.0, 1.0, 1.0] }}\n",
+            -half, -half
+        );
+    }
+    let mut scene = Scene::parse(&text, std::path::Path::new("."))?;
+    let colour = |c: [u8; 3]| c.map(|v| srgb_to_linear(v as f32 / 255.0));
+    let (red, cream, ink) = (colour([190, 45, 30]), colour([245, 238, 215]), colour([25, 40, 90]));
+    let rgba = |c: [f32; 3]| [c[0], c[1], c[2], 1.0];
+    let letters = text_image(32, &TextParams { text: "TEXTURE".into(), soft: 0.0 })?;
+    let lettered = Image::from_fn(letters.width, letters.height, |x, y| {
+        let k = letters.get(x, y);
+        rgba([0, 1, 2].map(|c| ink[c] * k + cream[c] * (1.0 - k)))
+    });
+    let sphere = TextureOptions { repeat: Vec2::new(2.0, 5.0), ..TextureOptions::default() };
+    scene.materials[0].texture = Some(Arc::new(FilteredTexture::new(&lettered, sphere)));
+    let checks = Image::from_fn(64, 64, |x, y| if (x / 4 + y / 4) % 2 == 0 { rgba(red) } else { rgba(cream) });
+    let board = FilteredTexture::new(&checks, TextureOptions::default());
+    for (k, (near, far, half)) in ROWS.into_iter().enumerate() {
+        let repeat = Vec2::new(2.0 * half / PERIOD, (near - far) / PERIOD);
+        scene.materials[k + 1].texture = Some(Arc::new(board.with_repeat(repeat)));
+    }
+    Ok(scene)
+}
+
+struct Panel {
+    name: String,
+    pixels: Vec<[f32; 3]>,
+    ms: f64,
+    rmse: f64,
+}
+
+fn rmse(a: &[[f32; 3]], b: &[[f32; 3]]) -> f64 {
+    let sum: f64 =
+        a.iter().zip(b).map(|(x, y)| (0..3).map(|c| ((x[c] - y[c]) as f64).powi(2)).sum::<f64>() / 3.0).sum();
+    (sum / a.len() as f64).sqrt()
+}
+
+fn psnr(rmse: f64) -> f64 {
+    if rmse > 0.0 {
+        -20.0 * rmse.log10()
+    } else {
+        f64::INFINITY
+    }
+}
+
+pub fn run(args: &FiltersArgs) -> Result<()> {
+    crate::set_threads(args.threads)?;
+    if args.output.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() != Some("png") {
+        return Err(Error::Invalid(format!("{}: the sheet must end in .png", args.output.display())));
+    }
+    if args.columns == 0 || args.columns > 64 {
+        return Err(Error::Invalid(format!("--columns must be between 1 and 64, got {}", args.columns)));
+    }
+    let names: Vec<String> = if args.filters.is_empty() {
+        DEFAULT_FILTERS.iter().map(|s| s.to_string()).collect()
+    } else {
+        args.filters.iter().map(|s| s.trim().to_string()).collect()
+    };
+    let filters = names
+        .iter()
+        .map(|n| {
+            Filter::parse(n).ok_or_else(|| {
+                Error::Invalid(format!("--filters: unknown filter \"{n}\" (expected {})", Filter::names()))
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let options = RenderOptions { width: args.width, height: args.height, ..RenderOptions::default() };
+    options.validate()?;
+    let mut scene = match &args.scene {
+        Some(_) => load_scene(args.scene.as_deref())?,
+        None => classic_scene()?,
+    };
+    if !scene.materials.iter().any(|m| m.texture.is_some()) {
+        return Err(Error::Invalid("the scene has no colour texture to filter".into()));
+    }
+
+    let bar = ProgressBar::new(filters.len() as u64 + 1);
+    bar.set_style(ProgressStyle::with_template("{bar:40} {pos}/{len} panels  {msg}").expect("valid template"));
+    bar.set_message("ground truth");
+    scene.set_texture_filter(Filter::Reference);
+    let truth = render(&scene, &RenderOptions { spp: 16, ..options.clone() })?.color;
+    bar.inc(1);
+    let mut panels = Vec::new();
+    for (name, &filter) in names.iter().zip(&filters) {
+        bar.set_message(name.clone());
+        scene.set_texture_filter(filter);
+        // Warm up (ripmaps and summed-area tables are built on first use), then time the second frame.
+        render(&scene, &options)?;
+        let t = Instant::now();
+        let pixels = render(&scene, &options)?.color;
+        let ms = t.elapsed().as_secs_f64() * 1e3;
+        panels.push(Panel { name: name.clone(), rmse: rmse(&pixels, &truth), pixels, ms });
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    panels.push(Panel { name: "ground truth".into(), pixels: truth, ms: f64::NAN, rmse: 0.0 });
+
+    let sheet = compose(&panels, args.width, args.height, args.columns);
+    io::write_png_rgb8(&args.output, sheet.width, sheet.height, &sheet.pixels)?;
+    print_table(&panels[..panels.len() - 1], args.json);
+    Ok(())
+}
+
+/// Height of the label strip above each panel, and the gap between panels.
+const LABEL: usize = 20;
+const GAP: usize = 4;
+
+/// The panels in a grid, each under its label ("ewa  34.3 dB"), 8-bit sRGB.
+fn compose(panels: &[Panel], w: usize, h: usize, columns: usize) -> Image<u8> {
+    let columns = columns.min(panels.len());
+    let rows = panels.len().div_ceil(columns);
+    let (cw, ch) = (w + GAP, h + LABEL + GAP);
+    let (sw, sh) = (columns * cw + GAP, rows * ch + GAP);
+    let mut sheet = Image::new(sw * 3, sh, 24u8);
+    let enc = SrgbEncoder::new();
+    for (k, p) in panels.iter().enumerate() {
+        let (x0, y0) = (GAP + (k % columns) * cw, GAP + (k / columns) * ch);
+        for y in 0..h {
+            for x in 0..w {
+                let c = p.pixels[y * w + x];
+                for (ch, v) in c.iter().enumerate() {
+                    sheet.set((x0 + x) * 3 + ch, y0 + LABEL + y, enc.encode(*v));
+                }
+            }
+        }
+        let label = if p.rmse > 0.0 { format!("{}  {:.1} dB", p.name, psnr(p.rmse)) } else { p.name.clone() };
+        draw_text(&mut sheet, x0 + 4, y0 + 2, &label, w - 8);
+    }
+    Image { width: sw, height: sh, pixels: sheet.pixels }
+}
+
+/// White letters of font8x8 at twice their size, clipped to `max_width` pixels.
+fn draw_text(sheet: &mut Image<u8>, x0: usize, y0: usize, text: &str, max_width: usize) {
+    for (k, c) in text.chars().enumerate() {
+        let g = glyph(c);
+        for (gy, row) in g.iter().enumerate() {
+            for gx in 0..8 {
+                if (row >> gx) & 1 == 0 {
+                    continue;
+                }
+                for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                    let x = k * 16 + gx * 2 + dx;
+                    if x < max_width {
+                        for ch in 0..3 {
+                            sheet.set((x0 + x) * 3 + ch, y0 + gy * 2 + dy, 235);
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+fn print_table(panels: &[Panel], json: bool) {
+    if json {
+        let rows: Vec<String> = panels
+            .iter()
+            .map(|p| {
+                format!(
+                    "  {{\"filter\": \"{}\", \"ms\": {:.3}, \"rmse\": {:.6}, \"psnr_db\": {:.3}}}",
+                    p.name,
+                    p.ms,
+                    p.rmse,
+                    psnr(p.rmse)
+                )
+            })
+            .collect();
+        println!("[\n{}\n]", rows.join(",\n"));
+    } else {
+        println!("{:<12} {:>9} {:>9} {:>9}", "filter", "ms", "rmse", "psnr_db");
+        for p in panels {
+            println!("{:<12} {:>9.2} {:>9.5} {:>9.2}", p.name, p.ms, p.rmse, psnr(p.rmse));
+        }
+    }
+}

@@ -1,0 +1,119 @@
+//! `wrinkle mipmap`: a texture's MIP pyramid, built in linear light, written as one atlas PNG or one
+//! PNG per level.
+
+use clap::Args;
+use glam::Vec4;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+use wrinkle::image::color::SrgbEncoder;
+use wrinkle::image::io;
+use wrinkle::texture::mip::build_levels;
+use wrinkle::texture::texel::Plane;
+use wrinkle::texture::{MipFilter, Wrap};
+use wrinkle::{Error, Result};
+
+#[derive(Args, Debug)]
+#[command(
+    after_help = "Examples:\n  wrinkle mipmap bricks.png -o bricks_mips.png                 atlas: level 0, the others stacked to its right\n  wrinkle mipmap bricks.png -o mips.png --filter kaiser --levels   mips_0.png, mips_1.png, ...\n  wrinkle mipmap heights.png -o h.png --linear                 data, not colour: no sRGB decoding"
+)]
+pub struct MipmapArgs {
+    /// The texture (PNG, JPEG, BMP, TGA, TIFF, EXR; 8-bit, 16-bit or float).
+    pub input: PathBuf,
+    /// The atlas (PNG), or the name the level files are numbered from with --levels.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// The low-pass filter that makes each level: box, kaiser or lanczos.
+    #[arg(long, default_value = "box", value_parser = ["box", "kaiser", "lanczos"])]
+    pub filter: String,
+    /// The input is linear data (height or normal maps): no sRGB decoding in, no encoding out.
+    #[arg(long)]
+    pub linear: bool,
+    /// How the edges are filtered: repeat (tiling textures), clamp or mirror.
+    #[arg(long, default_value = "repeat", value_parser = ["repeat", "clamp", "mirror"])]
+    pub wrap: String,
+    /// One file per level (OUT_0.png, OUT_1.png, ...) instead of an atlas.
+    #[arg(long)]
+    pub levels: bool,
+}
+
+pub fn run(args: &MipmapArgs) -> Result<()> {
+    let is_png = args.output.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    if !is_png {
+        return Err(Error::Invalid(format!("{}: output must end in .png", args.output.display())));
+    }
+    let filter = MipFilter::parse(&args.filter).expect("clap checked the name");
+    let wrap = Wrap::parse(&args.wrap).expect("clap checked the name");
+    let image = io::load_rgba_linear(&args.input, !args.linear)?;
+    let t = Instant::now();
+    let rows: Vec<Vec4> = image.pixels.iter().map(|&p| Vec4::from(p)).collect();
+    let levels = build_levels(Plane::from_top_rows(image.width, image.height, &rows), filter, [wrap; 2]);
+    let ms = t.elapsed().as_secs_f64() * 1e3;
+    let encode = Encoder { srgb: !args.linear, table: SrgbEncoder::new() };
+    if args.levels {
+        for (k, level) in levels.iter().enumerate() {
+            let path = numbered(&args.output, k);
+            io::write_png_rgba8(&path, level.width, level.height, &encode.plane(level))?;
+        }
+    } else {
+        let (w, h, bytes) = atlas(&levels, &encode);
+        io::write_png_rgba8(&args.output, w, h, &bytes)?;
+    }
+    println!(
+        "{} levels from {}x{} ({} filter, {}), built in {ms:.1} ms",
+        levels.len(),
+        image.width,
+        image.height,
+        args.filter,
+        if args.linear { "linear data" } else { "sRGB decoded to linear light" }
+    );
+    Ok(())
+}
+
+/// Linear values to 8-bit: colour channels sRGB-encoded (or scaled, for linear data), alpha scaled.
+struct Encoder {
+    srgb: bool,
+    table: SrgbEncoder,
+}
+
+impl Encoder {
+    fn texel(&self, v: Vec4) -> [u8; 4] {
+        let scale = |x: f32| (x.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+        let c = |x: f32| if self.srgb { self.table.encode(x) } else { scale(x) };
+        [c(v.x), c(v.y), c(v.z), scale(v.w)]
+    }
+
+    /// A level as RGBA bytes, row 0 at the top.
+    fn plane(&self, level: &Plane<Vec4>) -> Vec<u8> {
+        level.to_top_rows().into_iter().flat_map(|v| self.texel(v)).collect()
+    }
+}
+
+/// Level 0 on the left, the other levels stacked top to bottom to its right; transparent elsewhere.
+fn atlas(levels: &[Plane<Vec4>], encode: &Encoder) -> (usize, usize, Vec<u8>) {
+    let (w0, h0) = (levels[0].width, levels[0].height);
+    let right = levels.get(1).map_or(0, |l| l.width);
+    let stacked: usize = levels[1..].iter().map(|l| l.height).sum();
+    let (w, h) = (w0 + right, h0.max(stacked));
+    let mut bytes = vec![0u8; w * h * 4];
+    let mut place = |level: &Plane<Vec4>, x0: usize, y0: usize| {
+        let rgba = encode.plane(level);
+        for y in 0..level.height {
+            let src = &rgba[y * level.width * 4..(y + 1) * level.width * 4];
+            let at = ((y0 + y) * w + x0) * 4;
+            bytes[at..at + src.len()].copy_from_slice(src);
+        }
+    };
+    place(&levels[0], 0, 0);
+    let mut y = 0;
+    for level in &levels[1..] {
+        place(level, w0, y);
+        y += level.height;
+    }
+    (w, h, bytes)
+}
+
+/// `out.png` -> `out_3.png`.
+fn numbered(out: &Path, k: usize) -> PathBuf {
+    let stem = out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    out.with_file_name(format!("{stem}_{k}.png"))
+}

@@ -1,0 +1,104 @@
+//! The colour texture of a material: `texture = "file.png"` (with `filter = "..."` beside it in the
+//! material) or `texture = { path, filter, wrap, border, srgb, repeat, mipmap, level, max_aniso }`.
+
+use super::fields::{numbers, Fields};
+use super::load::{repeat, resolve};
+use crate::image::io;
+use crate::texture::{Filter, FilterOptions, FilteredTexture, LevelRule, MipFilter, Texture, TextureOptions, Wrap};
+use crate::{Error, Result};
+use glam::Vec4;
+use std::path::Path;
+use std::sync::Arc;
+use toml::Value;
+
+const TEXTURE_FIELDS: &[&str] = &["path", "filter", "wrap", "border", "srgb", "repeat", "mipmap", "level", "max_aniso"];
+
+/// The texture at `path` (the material's `texture` field); `material` is the material table, whose
+/// `filter` applies to the short form.
+pub fn parse_texture(path: &str, v: &Value, material: &Fields, base: &Path) -> Result<Arc<dyn Texture>> {
+    let beside = material.choice("filter", None, &filter_choices())?;
+    let (file, options, srgb) = match v {
+        Value::String(s) => {
+            let filter = FilterOptions { filter: beside.unwrap_or(Filter::Trilinear), ..FilterOptions::default() };
+            (s.as_str(), TextureOptions { filter, ..TextureOptions::default() }, true)
+        }
+        _ => {
+            let f = Fields::new(path, v, TEXTURE_FIELDS)?;
+            if beside.is_some() && f.get("filter").is_some() {
+                return Err(Error::scene(
+                    material.at("filter"),
+                    format!("given twice: here and in {}", f.at("filter")),
+                ));
+            }
+            let file = f.required("path", f.string("path")?)?;
+            let filter = FilterOptions {
+                filter: f.choice("filter", beside, &filter_choices())?.unwrap_or(Filter::Trilinear),
+                level_rule: f.choice(
+                    "level",
+                    LevelRule::Longest,
+                    &[("longest", LevelRule::Longest), ("area", LevelRule::Area)],
+                )?,
+                max_aniso: f.number_where(
+                    "max_aniso",
+                    Some(16.0),
+                    |x| (1.0..=64.0).contains(&x),
+                    "a ratio from 1 to 64",
+                )?,
+                ..FilterOptions::default()
+            };
+            let options = TextureOptions {
+                wrap: wrap(&f)?,
+                border: border(&f)?,
+                mip_filter: f.choice("mipmap", MipFilter::Box, &MipFilter::NAMES)?,
+                repeat: repeat(&f)?,
+                filter,
+            };
+            (file, options, f.boolean("srgb", true)?)
+        }
+    };
+    Ok(Arc::new(match io::load_texels(&resolve(base, file), srgb)? {
+        io::Texels::Rgba8(image) => FilteredTexture::from_rgba8(&image, srgb, options),
+        io::Texels::Linear(image) => FilteredTexture::new(&image, options),
+    }))
+}
+
+fn filter_choices() -> Vec<(&'static str, Option<Filter>)> {
+    Filter::ALL.iter().map(|&(n, f)| (n, Some(f))).collect()
+}
+
+/// One mode for both axes, or `[u, v]`.
+fn wrap(f: &Fields) -> Result<[Wrap; 2]> {
+    let names = || Wrap::NAMES.iter().map(|(n, _)| format!("\"{n}\"")).collect::<Vec<_>>().join(", ");
+    let one = |v: &Value| -> Result<Wrap> {
+        v.as_str().and_then(Wrap::parse).ok_or_else(|| {
+            Error::scene(f.at("wrap"), format!("expected one of {} (or two of them as [u, v]), got {v}", names()))
+        })
+    };
+    match f.get("wrap") {
+        None => Ok([Wrap::Repeat; 2]),
+        Some(Value::Array(a)) if a.len() == 2 => Ok([one(&a[0])?, one(&a[1])?]),
+        Some(v) => one(v).map(|w| [w; 2]),
+    }
+}
+
+/// The border colour, linear RGB or RGBA (alpha 1 when left out), components in [0, 1].
+fn border(f: &Fields) -> Result<Vec4> {
+    let Some(v) = f.get("border") else { return Ok(Vec4::ZERO) };
+    let n = v.as_array().map_or(0, |a| a.len());
+    let c = numbers(&f.at("border"), v, if n == 4 { 4 } else { 3 })?;
+    if c.iter().any(|x| !(0.0..=1.0).contains(x)) {
+        return Err(Error::scene(f.at("border"), "expected components between 0 and 1"));
+    }
+    Ok(Vec4::new(c[0], c[1], c[2], if n == 4 { c[3] } else { 1.0 }))
+}
+
+impl crate::Scene {
+    /// Every colour texture that has a choice of filters takes `filter` (`--filter` overriding the scene).
+    pub fn set_texture_filter(&mut self, filter: Filter) {
+        for m in &mut self.materials {
+            if let Some(t) = m.texture.as_ref().and_then(|t| t.with_filter(filter)) {
+                m.texture = Some(t);
+            }
+        }
+    }
+}

@@ -1,0 +1,108 @@
+//! A colour texture with a choice of filter: RGBA texels (8-bit sources kept in 8 bits and decoded per
+//! fetch, 16-bit and float sources as linear f32), wrap modes per axis, a border colour, a replication count, and one of the filters of
+//! [`Filter`] for every lookup.
+
+use super::filter::{Filter, FilterOptions, Filterable};
+use super::mip::{build_levels, MipFilter};
+use super::rgba8::Rgba8Plane;
+use super::texel::Plane;
+use super::wrap::Wrap;
+use super::{Footprint, Texture};
+use crate::image::color::SrgbEncoder;
+use crate::image::Image;
+use glam::{Vec2, Vec4};
+use std::sync::Arc;
+
+/// How a texture is prepared (once) and looked up.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TextureOptions {
+    pub wrap: [Wrap; 2],
+    pub border: Vec4,
+    pub mip_filter: MipFilter,
+    /// Copies of the texture per unit of (u, v).
+    pub repeat: Vec2,
+    pub filter: FilterOptions,
+}
+
+impl Default for TextureOptions {
+    fn default() -> Self {
+        TextureOptions {
+            wrap: [Wrap::Repeat; 2],
+            border: Vec4::ZERO,
+            mip_filter: MipFilter::Box,
+            repeat: Vec2::ONE,
+            filter: FilterOptions::default(),
+        }
+    }
+}
+
+pub struct FilteredTexture {
+    data: Arc<Levels>,
+    options: TextureOptions,
+}
+
+/// The pyramid's storage: 8-bit texels for 8-bit sources, f32 for 16-bit and float ones.
+enum Levels {
+    Float(Filterable<Plane<Vec4>>),
+    Bytes(Filterable<Rgba8Plane>),
+}
+
+impl FilteredTexture {
+    /// A texture from linear RGBA pixels (row 0 at the top, as images are stored).
+    pub fn new(image: &Image<[f32; 4]>, options: TextureOptions) -> Self {
+        let rows: Vec<Vec4> = image.pixels.iter().map(|&p| Vec4::from(p)).collect();
+        let plane = Plane::from_top_rows(image.width, image.height, &rows);
+        FilteredTexture {
+            data: Arc::new(Levels::Float(Filterable::new(plane, options.mip_filter, options.wrap))),
+            options,
+        }
+    }
+
+    /// A texture from 8-bit RGBA bytes as stored (row 0 at the top); `srgb`: the colour channels are
+    /// sRGB-encoded. The pyramid is built in linear light in f32 and stored in 8 bits; level 0 keeps the bytes.
+    pub fn from_rgba8(image: &Image<[u8; 4]>, srgb: bool, options: TextureOptions) -> Self {
+        let base = Rgba8Plane::from_top_rows(image.width, image.height, &image.pixels, srgb);
+        let float = build_levels(base.decode(), options.mip_filter, options.wrap);
+        let encoder = SrgbEncoder::new();
+        let levels =
+            std::iter::once(base).chain(float.iter().skip(1).map(|l| Rgba8Plane::encode(l, srgb, &encoder))).collect();
+        let data = Filterable::from_levels(levels, options.mip_filter, options.wrap);
+        FilteredTexture { data: Arc::new(Levels::Bytes(data)), options }
+    }
+
+    /// The same texture data looked up with other filter options (the pyramid is shared, not rebuilt).
+    pub fn with_options(&self, filter: FilterOptions) -> FilteredTexture {
+        FilteredTexture { data: Arc::clone(&self.data), options: TextureOptions { filter, ..self.options } }
+    }
+
+    /// The same texture data replicated `repeat` times per unit of (u, v).
+    pub fn with_repeat(&self, repeat: Vec2) -> FilteredTexture {
+        FilteredTexture { data: Arc::clone(&self.data), options: TextureOptions { repeat, ..self.options } }
+    }
+
+    pub fn options(&self) -> &TextureOptions {
+        &self.options
+    }
+
+    /// The filtered texture at (s, t) of one period, footprint in the same units.
+    #[inline]
+    pub fn lookup(&self, s: f32, t: f32, fp: &Footprint) -> Vec4 {
+        match &*self.data {
+            Levels::Float(d) => d.sample(&self.options.filter, self.options.border, s, t, fp),
+            Levels::Bytes(d) => d.sample(&self.options.filter, self.options.border, s, t, fp),
+        }
+    }
+}
+
+impl Texture for FilteredTexture {
+    #[inline]
+    fn sample(&self, uv: Vec2, footprint: &Footprint) -> Vec4 {
+        let st = uv * self.options.repeat;
+        let fp = footprint.replicated(self.options.repeat.x, self.options.repeat.y);
+        self.lookup(st.x, st.y, &fp)
+    }
+
+    fn with_filter(&self, filter: Filter) -> Option<Arc<dyn Texture>> {
+        Some(Arc::new(self.with_options(FilterOptions { filter, ..self.options.filter })))
+    }
+}

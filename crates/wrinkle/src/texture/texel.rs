@@ -1,0 +1,107 @@
+//! What a filter needs of a texel (weighted sums, in f32 and, for summed-area tables, in f64) and the plane of
+//! texels one MIP level holds. Colour textures use `Vec4` (linear RGBA), bump tables `f32` heights and, with
+//! their central differences, `Vec3` (T, dT/ds, dT/dt): the filters are written once for all of them.
+
+use glam::{DVec3, DVec4, Vec3, Vec4};
+use std::ops::{Add, Mul, Sub};
+
+/// A texel value: filters only add, subtract and scale them.
+pub trait Texel:
+    Copy + Default + Send + Sync + 'static + Add<Output = Self> + Sub<Output = Self> + Mul<f32, Output = Self>
+{
+    /// The same value in f64, for sums over millions of texels.
+    type Wide: Copy
+        + Default
+        + Send
+        + Sync
+        + Add<Output = Self::Wide>
+        + Sub<Output = Self::Wide>
+        + Mul<f64, Output = Self::Wide>;
+    fn widen(self) -> Self::Wide;
+    fn narrow(w: Self::Wide) -> Self;
+}
+
+impl Texel for f32 {
+    type Wide = f64;
+    fn widen(self) -> f64 {
+        self as f64
+    }
+    fn narrow(w: f64) -> f32 {
+        w as f32
+    }
+}
+
+impl Texel for Vec3 {
+    type Wide = DVec3;
+    fn widen(self) -> DVec3 {
+        self.as_dvec3()
+    }
+    fn narrow(w: DVec3) -> Vec3 {
+        w.as_vec3()
+    }
+}
+
+impl Texel for Vec4 {
+    type Wide = DVec4;
+    fn widen(self) -> DVec4 {
+        self.as_dvec4()
+    }
+    fn narrow(w: DVec4) -> Vec4 {
+        w.as_vec4()
+    }
+}
+
+/// Where a filter reads texels from: a `width` x `height` grid, (i, j) with j counted from the bottom
+/// (t near 0). Indices are always in range; wrap modes are resolved before.
+pub trait TexelSource: Sync {
+    type Texel: Texel;
+    fn width(&self) -> usize;
+    fn height(&self) -> usize;
+    fn texel(&self, i: usize, j: usize) -> Self::Texel;
+}
+
+/// One image of texels, row 0 at the bottom.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plane<T> {
+    pub width: usize,
+    pub height: usize,
+    pub texels: Vec<T>,
+}
+
+impl<T: Texel> Plane<T> {
+    /// `rows_from_top` as images store them (row 0 at the top), flipped so that row 0 is the bottom.
+    pub fn from_top_rows(width: usize, height: usize, rows_from_top: &[T]) -> Self {
+        let mut texels = Vec::with_capacity(width * height);
+        for j in 0..height {
+            let row = height - 1 - j;
+            texels.extend_from_slice(&rows_from_top[row * width..(row + 1) * width]);
+        }
+        Plane { width, height, texels }
+    }
+
+    /// The texels with row 0 at the top again, as images are written.
+    pub fn to_top_rows(&self) -> Vec<T> {
+        (0..self.height).rev().flat_map(|j| self.row(j).iter().copied()).collect()
+    }
+
+    #[inline]
+    pub fn row(&self, j: usize) -> &[T] {
+        &self.texels[j * self.width..(j + 1) * self.width]
+    }
+}
+
+impl<T: Texel> TexelSource for Plane<T> {
+    type Texel = T;
+    #[inline]
+    fn width(&self) -> usize {
+        self.width
+    }
+    #[inline]
+    fn height(&self) -> usize {
+        self.height
+    }
+    #[inline]
+    fn texel(&self, i: usize, j: usize) -> T {
+        self.texels[j * self.width + i]
+    }
+}
