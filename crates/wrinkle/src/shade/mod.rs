@@ -117,8 +117,8 @@ impl ShadeContext<'_> {
         }
         let albedo = match &material.texture {
             Some(t) => {
-                V3::splat(material.color)
-                    * V3::from_lanes(&std::array::from_fn(|i| t.sample(uv_lane(i), &footprints[i]).truncate()))
+                let [r, g, b, _] = t.sample8(uv.0, uv.1, footprints);
+                V3::splat(material.color) * V3 { x: r, y: g, z: b }
             }
             None => V3::splat(material.color),
         };

@@ -3,11 +3,13 @@
 //! [`Filter`] for every lookup.
 
 use super::filter::{Filter, FilterOptions, Filterable};
-use super::mip::{build_levels, MipFilter};
+use super::mip::{build_levels, LevelRule, MipFilter};
 use super::rgba8::Rgba8Plane;
 use super::texel::Plane;
 use super::wrap::Wrap;
-use super::{Footprint, Texture};
+use super::trilinear8::trilinear8;
+use super::{lane_by_lane, Footprint, Texture};
+use crate::lanes::{F8, LANES};
 use crate::image::color::SrgbEncoder;
 use crate::image::Image;
 use glam::{Vec2, Vec4};
@@ -100,6 +102,22 @@ impl Texture for FilteredTexture {
         let st = uv * self.options.repeat;
         let fp = footprint.replicated(self.options.repeat.x, self.options.repeat.y);
         self.lookup(st.x, st.y, &fp)
+    }
+
+    fn sample8(&self, u: F8, v: F8, footprints: &[Footprint; LANES]) -> [F8; 4] {
+        let opts = &self.options;
+        match &*self.data {
+            Levels::Bytes(d)
+                if opts.filter.filter == Filter::Trilinear
+                    && opts.filter.level_rule == LevelRule::Longest
+                    && d.wrap() == [Wrap::Repeat; 2] =>
+            {
+                let (ru, rv) = (opts.repeat.x, opts.repeat.y);
+                let fp = footprints.map(|f| f.replicated(ru, rv));
+                trilinear8(d.levels(), u * F8::splat(ru), v * F8::splat(rv), &fp)
+            }
+            _ => lane_by_lane(self, u, v, footprints),
+        }
     }
 
     fn with_filter(&self, filter: Filter) -> Option<Arc<dyn Texture>> {

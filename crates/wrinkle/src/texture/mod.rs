@@ -13,6 +13,7 @@ pub mod rgba8;
 pub mod ripmap;
 pub mod sat;
 pub mod texel;
+pub mod trilinear8;
 pub mod wrap;
 
 pub use filter::{Filter, FilterOptions, Filterable};
@@ -22,6 +23,7 @@ pub use image_texture::ImageTexture;
 pub use mip::{LevelRule, MipFilter};
 pub use wrap::Wrap;
 
+use crate::lanes::{F8, LANES};
 use glam::{Vec2, Vec4};
 
 /// Anything that can be looked up at (u,v). The footprint tells the lookup how large the pixel is,
@@ -35,6 +37,19 @@ pub trait Texture: Send + Sync {
     fn with_filter(&self, _filter: Filter) -> Option<std::sync::Arc<dyn Texture>> {
         None
     }
+
+    /// Eight lookups at once (the packet shader's), as four channel lanes (R, G, B, A). Sources with a
+    /// faster way override it; by default, one `sample` per lane.
+    fn sample8(&self, u: F8, v: F8, footprints: &[Footprint; LANES]) -> [F8; 4] {
+        lane_by_lane(self, u, v, footprints)
+    }
+}
+
+/// `sample` once per lane, transposed to channel lanes.
+pub fn lane_by_lane<T: Texture + ?Sized>(texture: &T, u: F8, v: F8, footprints: &[Footprint; LANES]) -> [F8; 4] {
+    let (u, v) = (u.as_array_ref(), v.as_array_ref());
+    let texels: [Vec4; LANES] = std::array::from_fn(|i| texture.sample(Vec2::new(u[i], v[i]), &footprints[i]));
+    std::array::from_fn(|c| F8::new(texels.map(|t| t[c])))
 }
 
 /// Wraps a coordinate into [0, 1) periodically.
