@@ -7,6 +7,7 @@ pub mod bump;
 pub mod error;
 pub mod geometry;
 pub mod image;
+pub mod procedural;
 pub mod raster;
 pub mod render;
 pub mod scene;
