@@ -5,6 +5,7 @@ mod bench_noise;
 mod bumpgen;
 mod output;
 mod render;
+mod texture;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -29,6 +30,8 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Time 3D Perlin noise and fBm over 4,000,000 points in [0, 10)^3, and a 1024x1024 fBm texture.
     BenchNoise(bench_noise::BenchNoiseArgs),
+    /// Bake a procedural texture (noise, fbm, marble, wood, fire, clouds, bricks, ...) into a PNG or EXR.
+    Texture(texture::TextureArgs),
 }
 
 fn main() -> ExitCode {
@@ -56,6 +59,7 @@ fn main() -> ExitCode {
         Command::Bumpgen(a) => bumpgen::run(a),
         Command::Bench(a) => bench::run(a),
         Command::BenchNoise(a) => bench_noise::run(a),
+        Command::Texture(a) => texture::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -8,7 +8,7 @@
 //! colour is a Catmull-Rom spline through the pattern's colours at t.
 
 use super::fbm::{Fractal, Octaves, Sum};
-use super::perlin::{NoiseD, Perlin};
+use super::perlin::{NoiseD, Perlin, LANES};
 use crate::{Error, Result};
 use std::f32::consts::TAU;
 
@@ -135,7 +135,7 @@ impl Params {
             strength: match kind {
                 Kind::Wood => 0.3,
                 Kind::Fire => 1.0,
-                _ => 1.5,
+                _ => 0.5,
             },
             rings: 4.0,
             time: 0.0,
@@ -249,6 +249,34 @@ impl Pattern {
     /// The colour at `p`: the spline through the colours at t(p).
     pub fn color(&self, p: [f32; 3], width: f32) -> [f32; 3] {
         spline(&self.params.colors, self.eval(p, width))
+    }
+
+    /// t along one row of a 2D image: the points (u0 + (i + 0.5) du, v) for every i of `out`, each pixel
+    /// `width` units wide. fBm and turbulence whose octaves are all resolved run eight pixels at a time.
+    pub fn row(&self, u0: f32, du: f32, v: f32, width: f32, out: &mut [f32]) {
+        let s = self.params.scale;
+        let sum = match self.params.kind {
+            Kind::Fbm => Some((&self.fbm, 0.5, 0.5)),
+            Kind::Turbulence => Some((&self.turbulence, 0.0, 1.0)),
+            _ => None,
+        };
+        match sum {
+            Some((fractal, a, k)) if self.dims == 2 && fractal.all_octaves_resolved(width * s) => {
+                let y = [v * s; LANES];
+                for (c, chunk) in out.chunks_mut(LANES).enumerate() {
+                    let x: [f32; LANES] = std::array::from_fn(|l| (u0 + ((c * LANES + l) as f32 + 0.5) * du) * s);
+                    let n = fractal.eval2_lanes(&x, &y);
+                    for (o, n) in chunk.iter_mut().zip(n) {
+                        *o = (a + k * n).clamp(0.0, 1.0);
+                    }
+                }
+            }
+            _ => {
+                for (i, o) in out.iter_mut().enumerate() {
+                    *o = self.eval([u0 + (i as f32 + 0.5) * du, v, 0.0], width);
+                }
+            }
+        }
     }
 
     /// The pattern at the scaled point q, for a pixel `w` scaled units wide.
@@ -489,6 +517,19 @@ mod tests {
             }
         }
         assert!(checked > 2000, "only {checked} smooth points");
+    }
+
+    #[test]
+    fn rows_of_lanes_equal_single_points() {
+        for kind in [Kind::Fbm, Kind::Turbulence, Kind::Marble] {
+            let p = Pattern::new(Params::new(kind), 2, true).unwrap();
+            let mut row = vec![0.0; 21];
+            p.row(0.1, 0.01, 0.37, 0.001, &mut row);
+            for (i, t) in row.iter().enumerate() {
+                let single = p.eval([0.1 + (i as f32 + 0.5) * 0.01, 0.37, 0.0], 0.001);
+                assert!((t - single).abs() < 1e-5, "{kind:?} pixel {i}: {t} vs {single}");
+            }
+        }
     }
 
     #[test]

@@ -106,6 +106,11 @@ impl Fractal {
         self.amp.iter().sum()
     }
 
+    /// Whether a pixel `width` lattice cells wide sees every octave at full weight (no band limiting).
+    pub fn all_octaves_resolved(&self, width: f32) -> bool {
+        self.freq.last().map_or(true, |f| width * f <= FADE_START)
+    }
+
     /// The weight of octave `i` for a pixel of `width` lattice cells at the first octave.
     #[inline(always)]
     fn weight(&self, i: usize, width: f32) -> f32 {

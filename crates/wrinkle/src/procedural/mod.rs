@@ -2,6 +2,7 @@
 //! fBm and turbulence band-limited to the pixel, the classic effects, bias and gain, and hypertexture.
 //! Knows nothing of scenes or rasters.
 
+pub mod bake;
 pub mod bias_gain;
 pub mod effects;
 pub mod fbm;
