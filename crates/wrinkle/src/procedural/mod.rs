@@ -9,5 +9,6 @@ pub mod fbm;
 pub mod perlin;
 #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
 mod simd;
+pub mod solid;
 
 pub use perlin::{NoiseD, Perlin, Variant};

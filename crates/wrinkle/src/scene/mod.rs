@@ -3,6 +3,7 @@
 
 mod fields;
 mod load;
+mod procedural;
 
 pub use load::DEFAULT_SCENE;
 

@@ -5,11 +5,12 @@ pub mod light;
 pub mod material;
 
 pub use light::{Light, Phong};
-pub use material::{Bump, BumpFilter, Material};
+pub use material::{Bump, BumpFilter, BumpSource, Material};
 
 use crate::bump::blinn::perturbed_normal;
 use crate::bump::Perturbation;
 use crate::geometry::{Surface, SurfaceFrame};
+use crate::procedural::solid::solid_point;
 use crate::texture::Footprint;
 use glam::{Affine3A, Mat3, Vec2, Vec3};
 
@@ -58,7 +59,7 @@ impl ShadeContext<'_> {
         let n_obj = match (&material.bump, self.bump_enabled) {
             (Some(bump), true) => perturbed_normal(
                 frame,
-                bump.perturbation(uv, footprint, self.bump_filter.unwrap_or(bump.filter)),
+                bump.perturbation(uv, frame, footprint, self.bump_filter.unwrap_or(bump.filter)),
                 bump.formula,
             ),
             _ => n_geo,
@@ -74,30 +75,47 @@ impl ShadeContext<'_> {
         if inst.two_sided && (inst.normal_matrix * n_geo).dot(v) < 0.0 {
             n = -n;
         }
+        let solid = solid_point(frame, footprint);
         let albedo = match &material.texture {
-            Some(t) => material.color * t.sample(uv, footprint).truncate(),
+            Some(t) => material.color * t.sample_at(uv, footprint, &solid).truncate(),
             None => material.color,
+        };
+        let phong = match &material.specular_map {
+            // The cutoff of the full specular stays valid for a smaller one.
+            Some(m) => {
+                let k = m.sample_at(uv, footprint, &solid).truncate().dot(Vec3::splat(1.0 / 3.0)).clamp(0.0, 1.0);
+                Phong { specular: material.phong.specular * k, ..material.phong }
+            }
+            None => material.phong,
         };
         let mut color = Vec3::ZERO;
         for light in self.lights {
-            color += light.shade(position, n, v, albedo, &material.phong);
+            color += light.shade(position, n, v, albedo, &phong);
         }
         ShadedSample { color, normal: n, depth }
     }
 }
 
 impl Bump {
-    /// F, Fu, Fv at surface parameters `uv`: the table is replicated `repeat` times and scaled by `scale`.
+    /// F, Fu, Fv at surface parameters `uv` (whose frame is `frame`): a table is replicated `repeat` times
+    /// and scaled by `scale`; a procedural pattern is scaled by `scale` and band-limited to the footprint.
     #[inline]
-    pub fn perturbation(&self, uv: Vec2, footprint: &Footprint, filter: BumpFilter) -> Perturbation {
+    pub fn perturbation(&self, uv: Vec2, frame: &SurfaceFrame, footprint: &Footprint, filter: BumpFilter) -> Perturbation {
+        let table = match &self.source {
+            BumpSource::Table(t) => t,
+            BumpSource::Procedural(p) => {
+                let b = p.bump(self.scale, uv, frame, footprint);
+                return Perturbation { f: b.value, fu: b.grad[0], fv: b.grad[1] };
+            }
+        };
         let st = uv * self.repeat;
         let level = match filter {
             BumpFilter::None => 0.0,
             BumpFilter::Mip => {
-                footprint.replicated(self.repeat.x, self.repeat.y).mip_level(self.table.width(), self.table.height())
+                footprint.replicated(self.repeat.x, self.repeat.y).mip_level(table.width(), table.height())
             }
         };
-        let b = self.table.sample(st.x, st.y, self.interp, level);
+        let b = table.sample(st.x, st.y, self.interp, level);
         Perturbation {
             f: self.scale * b.f,
             fu: self.scale * self.repeat.x * b.fs,

@@ -6,13 +6,27 @@ pub mod image_texture;
 pub use footprint::Footprint;
 pub use image_texture::ImageTexture;
 
-use glam::{Vec2, Vec4};
+use glam::{Vec2, Vec3, Vec4};
 
 /// Anything that can be looked up at (u,v). The footprint tells the lookup how large the pixel is,
 /// so that a filter can integrate over it; filters plug in here without touching the shader.
 pub trait Texture: Send + Sync {
     /// Linear-light RGBA at `uv` (one period is [0,1]; the source decides how it wraps).
     fn sample(&self, uv: Vec2, footprint: &Footprint) -> Vec4;
+
+    /// The lookup at a surface point: solid textures read the object-space point (u = x, v = y, w = z);
+    /// every other texture reads (u,v) as `sample` does.
+    fn sample_at(&self, uv: Vec2, footprint: &Footprint, _solid: &SolidPoint) -> Vec4 {
+        self.sample(uv, footprint)
+    }
+}
+
+/// The object-space point of a surface sample and the size of its pixel there (the longer of the two
+/// screen steps dP/dx, dP/dy), for solid textures.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SolidPoint {
+    pub p: Vec3,
+    pub width: f32,
 }
 
 /// Wraps a coordinate into [0, 1) periodically.
