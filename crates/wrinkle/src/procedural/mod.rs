@@ -6,6 +6,7 @@ pub mod bake;
 pub mod bias_gain;
 pub mod effects;
 pub mod fbm;
+pub mod hypertexture;
 pub mod perlin;
 #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
 mod simd;

@@ -38,7 +38,7 @@ impl Scene {
     /// Parses scene text; relative file names resolve against `base`.
     pub fn parse(text: &str, base: &Path) -> Result<Scene> {
         let root: Value = toml::from_str::<toml::Table>(text).map(Value::Table).map_err(|e| toml_error(text, &e))?;
-        let top = Fields::new("", &root, &["camera", "light", "object"])?;
+        let top = Fields::new("", &root, &["camera", "light", "object", "volume"])?;
         let camera = parse_camera(top.get("camera").ok_or_else(|| Error::scene("camera", "missing table [camera]"))?)?;
         let lights = top
             .tables("light")?
@@ -53,7 +53,13 @@ impl Scene {
             objects.push(object);
             materials.push(material);
         }
-        Ok(Scene { camera, lights, objects, materials })
+        let volumes = top
+            .tables("volume")?
+            .iter()
+            .enumerate()
+            .map(|(i, v)| procedural::parse_volume(&format!("volumes[{i}]"), v))
+            .collect::<Result<Vec<_>>>()?;
+        Ok(Scene { camera, lights, objects, materials, volumes })
     }
 }
 
