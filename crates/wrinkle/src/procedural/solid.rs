@@ -24,9 +24,9 @@ pub struct Procedural {
     pub space: Space,
 }
 
-/// The longer of the footprint's two (u,v) steps.
+/// The pixel's size in (u,v): the square root of its area there (the slides' d = sqrt(area) of MIP maps).
 fn uv_width(fp: &Footprint) -> f32 {
-    fp.dudx.hypot(fp.dvdx).max(fp.dudy.hypot(fp.dvdy))
+    (fp.dudx * fp.dvdy - fp.dvdx * fp.dudy).abs().sqrt()
 }
 
 impl Procedural {
@@ -52,11 +52,12 @@ impl Procedural {
     }
 }
 
-/// The object-space point of a sample and its pixel's size there: dP/dx = Pu du/dx + Pv dv/dx (and y).
+/// The object-space point of a sample and its pixel's size there: the square root of the area spanned by
+/// dP/dx = Pu du/dx + Pv dv/dx and dP/dy.
 pub fn solid_point(frame: &SurfaceFrame, fp: &Footprint) -> SolidPoint {
     let dx = frame.pu * fp.dudx + frame.pv * fp.dvdx;
     let dy = frame.pu * fp.dudy + frame.pv * fp.dvdy;
-    SolidPoint { p: frame.p, width: dx.length().max(dy.length()) }
+    SolidPoint { p: frame.p, width: dx.cross(dy).length().sqrt() }
 }
 
 impl Texture for Procedural {

@@ -21,8 +21,8 @@ pub trait Texture: Send + Sync {
     }
 }
 
-/// The object-space point of a surface sample and the size of its pixel there (the longer of the two
-/// screen steps dP/dx, dP/dy), for solid textures.
+/// The object-space point of a surface sample and the size of its pixel there (the square root of the
+/// area spanned by the screen steps dP/dx, dP/dy), for solid textures.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SolidPoint {
     pub p: Vec3,
