@@ -4,6 +4,8 @@
 use clap::Args;
 use rayon::prelude::*;
 use std::time::Instant;
+use wrinkle::procedural::bake::bake;
+use wrinkle::procedural::effects::{Kind, Params, Pattern};
 use wrinkle::procedural::fbm::{Fractal, Octaves, Sum};
 use wrinkle::procedural::perlin::uniform_points;
 use wrinkle::procedural::{Perlin, Variant};
@@ -67,9 +69,16 @@ pub fn run(args: &BenchNoiseArgs) -> Result<()> {
     let (noise_ms, noise_min) = time(args.rounds, || chunks(&mut out, &|x, y, z, o| noise.noise3_many(x, y, z, o)));
     let checksum: f64 = out.iter().map(|&v| v as f64).sum();
     let (fbm_ms, fbm_min) = time(args.rounds, || chunks(&mut out, &|x, y, z, o| fbm.eval3_many(x, y, z, o)));
+    // The texture tool's workload: a 1024x1024 fBm image (2D noise, all octaves resolved, eight pixels a time).
+    let mut params = Params::new(Kind::Fbm);
+    params.octaves.count = args.octaves;
+    let pattern = Pattern::new(params, 2, false)?;
+    let (tex_ms, tex_min) = time(args.rounds, || {
+        bake(&pattern, 1024, 1024);
+    });
     let mps = |ms: f64| args.points as f64 / (ms * 1e3);
     println!(
-        "threads={} points={} perlin3_mpts={:.1} perlin3_best_mpts={:.1} fbm{}_mpts={:.1} fbm{}_best_mpts={:.1} checksum={checksum:.3}",
+        "threads={} points={} perlin3_mpts={:.1} perlin3_best_mpts={:.1} fbm{}_mpts={:.1} fbm{}_best_mpts={:.1} texture1024_fbm_ms={tex_ms:.1} texture1024_fbm_best_ms={tex_min:.1} checksum={checksum:.3}",
         rayon::current_num_threads(),
         args.points,
         mps(noise_ms),
