@@ -28,6 +28,9 @@ pub struct BenchNoiseArgs {
     pub threads: Option<usize>,
 }
 
+/// A kernel over coordinate slices into an output slice.
+type Kernel<'a> = dyn Fn(&[f32], &[f32], &[f32], &mut [f32]) + Sync + 'a;
+
 /// Points handed to one worker at a time.
 const CHUNK: usize = 1 << 14;
 
@@ -60,7 +63,7 @@ pub fn run(args: &BenchNoiseArgs) -> Result<()> {
     let mut out = vec![0.0f32; args.points];
     let noise = Perlin::new(Variant::Improved, 0);
     let fbm = Fractal::new(noise.clone(), Sum::Fbm, Octaves { count: args.octaves, ..Octaves::default() });
-    let chunks = |out: &mut [f32], f: &(dyn Fn(&[f32], &[f32], &[f32], &mut [f32]) + Sync)| {
+    let chunks = |out: &mut [f32], f: &Kernel<'_>| {
         out.par_chunks_mut(CHUNK).enumerate().for_each(|(c, o)| {
             let r = c * CHUNK..c * CHUNK + o.len();
             f(&x[r.clone()], &y[r.clone()], &z[r], o)

@@ -219,10 +219,6 @@ impl Pattern {
         Ok(Pattern { params, noise, fbm, turbulence, dims: dims.clamp(2, 3) })
     }
 
-    pub fn dims(&self) -> usize {
-        self.dims
-    }
-
     /// t(p) in [0, 1] and its gradient with respect to the unscaled input point `p`, for a pixel `width`
     /// units of the unscaled input wide.
     pub fn eval_d(&self, p: [f32; 3], width: f32) -> NoiseD {

@@ -66,7 +66,6 @@ pub const MAX_OCTAVES: u32 = 24;
 #[derive(Clone, Debug)]
 pub struct Fractal {
     pub sum: Sum,
-    octaves: Octaves,
     /// One noise per octave: the same table, with the period scaled by the octave's frequency when tileable.
     noises: Vec<Perlin>,
     /// Per octave: frequency and amplitude.
@@ -96,11 +95,7 @@ impl Fractal {
             f *= octaves.lacunarity;
             a *= octaves.gain;
         }
-        Fractal { sum, octaves, noises, freq, amp }
-    }
-
-    pub fn octaves(&self) -> Octaves {
-        self.octaves
+        Fractal { sum, noises, freq, amp }
     }
 
     /// The largest value the sum can reach in magnitude, for |noise| <= 1: sum of the amplitudes.
@@ -110,7 +105,7 @@ impl Fractal {
 
     /// Whether a pixel `width` lattice cells wide sees every octave at full weight (no band limiting).
     pub fn all_octaves_resolved(&self, width: f32) -> bool {
-        self.freq.last().map_or(true, |f| width * f <= FADE_START)
+        self.freq.last().is_none_or(|f| width * f <= FADE_START)
     }
 
     /// The weight of octave `i` for a pixel of `width` lattice cells at the first octave.
