@@ -13,7 +13,7 @@ use wrinkle::image::io::{load_grey, load_rgba8};
 use wrinkle::raster::Projection;
 use wrinkle::render::{MAX_PIXELS, MAX_SIDE};
 use wrinkle::scene::{CameraDesc, Object, Shape};
-use wrinkle::shade::{Bump, BumpFilter, Light, Material, Phong};
+use wrinkle::shade::{Bump, BumpFilter, BumpSource, Light, Material, Phong};
 use wrinkle::texture::ImageTexture;
 use wrinkle::{render, Error, RenderOptions, Result, Scene};
 
@@ -91,7 +91,7 @@ pub fn scene(args: &BumpArgs, table: BumpTable, texture: Option<ImageTexture>) -
         lights.push(Light::Ambient { radiance: Vec3::splat(args.ambient) });
     }
     let bump = Bump {
-        table: Arc::new(table),
+        source: BumpSource::Table(Arc::new(table)),
         scale: args.scale,
         repeat: Vec2::ONE,
         interp: Interp::Bilinear,
@@ -103,6 +103,7 @@ pub fn scene(args: &BumpArgs, table: BumpTable, texture: Option<ImageTexture>) -
         texture: texture.map(|t| Arc::new(t) as Arc<dyn wrinkle::texture::Texture>),
         phong: Phong::new(args.specular, args.shininess),
         bump: Some(bump),
+        specular_map: None,
     };
     Ok(Scene {
         camera: CameraDesc {
@@ -119,6 +120,7 @@ pub fn scene(args: &BumpArgs, table: BumpTable, texture: Option<ImageTexture>) -
             material: 0,
         }],
         materials: vec![material],
+        volumes: Vec::new(),
     })
 }
 

@@ -1,6 +1,7 @@
 //! The `wrinkle` command: parses the command line and hands each subcommand to its own file.
 
 mod bench;
+mod bench_noise;
 mod bench_texture;
 mod bump_image;
 mod bumpgen;
@@ -12,6 +13,7 @@ mod mipmap;
 mod normalmap;
 mod output;
 mod render;
+mod texture;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -48,6 +50,10 @@ enum Command {
     Mipmap(mipmap::MipmapArgs),
     /// Time texture lookups per filter (isotropic and 8:1 footprints, random and scanline order) and the pyramid build.
     BenchTexture(bench_texture::BenchTextureArgs),
+    /// Time 3D Perlin noise and fBm over 4,000,000 points in [0, 10)^3, and a 1024x1024 fBm texture.
+    BenchNoise(bench_noise::BenchNoiseArgs),
+    /// Bake a procedural texture (noise, fbm, marble, wood, fire, clouds, bricks, ...) into a PNG or EXR.
+    Texture(texture::TextureArgs),
 }
 
 fn main() -> ExitCode {
@@ -81,6 +87,8 @@ fn main() -> ExitCode {
         Command::Filters(a) => filters::run(a),
         Command::Mipmap(a) => mipmap::run(a),
         Command::BenchTexture(a) => bench_texture::run(a),
+        Command::BenchNoise(a) => bench_noise::run(a),
+        Command::Texture(a) => texture::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -144,8 +144,10 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     });
     for k in 0..args.frames {
         options.turntable_degrees = if args.turntable { 360.0 * k as f32 / args.frames as f32 } else { 0.0 };
-        // One long frame gets a bar of its own (bands of tiles); an animation has one over its frames.
-        let long = !animated && options.width * options.height * options.spp >= LONG_FRAME_SAMPLES;
+        // One long frame (many samples, or ray-marched volumes) gets a bar of its own (bands of tiles); an
+        // animation has one over its frames.
+        let long = !animated
+            && (options.width * options.height * options.spp >= LONG_FRAME_SAMPLES || !scene.volumes.is_empty());
         let frame_bar = long.then(|| {
             let bar = ProgressBar::new(0);
             bar.set_style(

@@ -592,3 +592,76 @@ fn bench_texture_prints_rates() {
     assert!(run.stdout.contains("pyramid size=64x64"), "{}", run.stdout);
     assert_eq!(run.stdout.matches("filter=sat").count(), 4, "{}", run.stdout);
 }
+
+#[test]
+fn texture_writes_every_kind_and_format() {
+    let s = Scratch::new("texture");
+    let list = wrinkle(&["texture", "--list"]);
+    assert_ok(&list);
+    for kind in ["noise", "fbm", "turbulence", "marble", "wood", "fire", "clouds", "bricks", "checker", "grid"] {
+        assert!(list.stdout.contains(kind), "--list names {kind}");
+        let out = s.out(&format!("{kind}.png"));
+        assert_ok(&wrinkle(&["texture", kind, "-o", &out, "--size", "40x24"]));
+        assert_eq!(png_header(&out), (40, 24, 8, 2));
+    }
+    let out16 = s.out("fbm16.png");
+    assert_ok(&wrinkle(&[
+        "texture",
+        "fbm",
+        "-o",
+        &out16,
+        "--size",
+        "32x32",
+        "--bits",
+        "16",
+        "--tileable",
+        "--seed",
+        "9",
+    ]));
+    assert_eq!(png_header(&out16), (32, 32, 16, 2));
+    let exr = s.out("clouds.exr");
+    assert_ok(&wrinkle(&["texture", "clouds", "-o", &exr, "--size", "16x8", "--time", "2"]));
+    let (w, h, channels) = read_exr_channels(Path::new(&exr)).unwrap();
+    assert_eq!((w, h, channels.len()), (16, 8, 3));
+}
+
+#[test]
+fn texture_rejects_bad_requests_in_one_line() {
+    let s = Scratch::new("texture-bad");
+    let out = s.out("x.png");
+    assert_one_error(&wrinkle(&["texture", "plaid", "-o", &out]), 2, &["plaid", "marble"], &s);
+    assert_one_error(&wrinkle(&["texture", "fbm", "-o", &out, "--size", "0x5"]), 2, &["--size"], &s);
+    assert_one_error(&wrinkle(&["texture", "fbm", "-o", &out, "--size", "big"]), 2, &["--size", "big"], &s);
+    assert_one_error(&wrinkle(&["texture", "wood", "-o", &out, "--tileable"]), 2, &["wood", "tile"], &s);
+    assert_one_error(&wrinkle(&["texture", "fbm", "-o", &out, "--gain", "2"]), 2, &["gain"], &s);
+    assert_one_error(&wrinkle(&["texture", "fbm", "-o", &out, "--bits", "12"]), 2, &["--bits"], &s);
+    assert_one_error(&wrinkle(&["texture", "marble", "-o", &out, "--colors", "1,0"]), 2, &["--colors"], &s);
+}
+
+#[test]
+fn procedural_scene_fields_are_checked() {
+    let s = Scratch::new("procedural-scene");
+    let bad_pattern =
+        s.write_input("a.toml", scene_with("shape = \"sphere\"\nmaterial = { texture = { procedural = \"plaid\" } }"));
+    assert_one_error(&render_scene(&s, &bad_pattern, &[]), 2, &["objects[0].material.texture.procedural", "plaid"], &s);
+    let bad_octaves = s.write_input(
+        "b.toml",
+        scene_with("shape = \"sphere\"\n[object.material.bump]\nprocedural = { pattern = \"fbm\", octaves = 99 }"),
+    );
+    assert_one_error(&render_scene(&s, &bad_octaves, &[]), 2, &["objects[0].material.bump.procedural.octaves"], &s);
+    let volume = s.write_input(
+        "c.toml",
+        format!(
+            "{}\n[[volume]]\nradius = 0.5\n[[volume.modulate]]\nkind = \"bias\"\nvalue = 1.5\n",
+            scene_with("shape = \"sphere\"")
+        ),
+    );
+    assert_one_error(&render_scene(&s, &volume, &[]), 2, &["volumes[0].modulate[0].value"], &s);
+}
+
+#[test]
+fn bench_noise_reports_throughput() {
+    let run = wrinkle(&["bench-noise", "--points", "20000", "--rounds", "1"]);
+    assert_ok(&run);
+    assert!(run.stdout.contains("perlin3_mpts=") && run.stdout.contains("fbm6_mpts="), "{}", run.stdout);
+}

@@ -8,6 +8,7 @@ pub mod error;
 pub mod geometry;
 pub mod image;
 pub mod lanes;
+pub mod procedural;
 pub mod raster;
 pub mod render;
 pub mod scene;

@@ -163,6 +163,13 @@ pub fn write_png_rgba8(path: &Path, width: usize, height: usize, rgba: &[u8]) ->
     write_png(path, width, height, png::ColorType::Rgba, png::BitDepth::Eight, rgba)
 }
 
+/// Writes a 16-bit RGB PNG from `rgb`, 3 values per pixel: clamped to [0, 1], scaled by 65535, rounded.
+pub fn write_png_rgb16(path: &Path, width: usize, height: usize, rgb: &[f32]) -> Result<()> {
+    check_buffer(path, width, height, 3, rgb.len())?;
+    let bytes: Vec<u8> = rgb.iter().flat_map(|&v| quantize(v, 65535.0).to_be_bytes()).collect();
+    write_png(path, width, height, png::ColorType::Rgb, png::BitDepth::Sixteen, &bytes)
+}
+
 /// Writes a 16-bit grey PNG: values clamped to [0, 1] and scaled by 65535, rounded (NaN gives 0).
 pub fn write_png_grey16(path: &Path, img: &GreyImage) -> Result<()> {
     check_buffer(path, img.width, img.height, 1, img.pixels.len())?;

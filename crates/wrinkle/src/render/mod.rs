@@ -8,11 +8,12 @@ pub use frame::{Aovs, Frame, Stats};
 use crate::geometry::tessellate::{grid, segments_for, Mesh};
 use crate::lanes::{F8, LANES};
 use crate::raster::refine::refine_uv8;
+use crate::procedural::hypertexture::{Hypertexture, VolumeLight};
 use crate::raster::setup::ProjectedVertex;
 use crate::raster::visibility::EMPTY;
 use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
 use crate::scene::Scene;
-use crate::shade::{BumpFilter, ShadeContext, ShadedSample, SurfaceInstance};
+use crate::shade::{BumpFilter, Light, ShadeContext, ShadedSample, SurfaceInstance};
 use crate::texture::Footprint;
 use crate::{Error, Result};
 use glam::{Affine3A, Mat3, Quat, Vec2, Vec3};
@@ -153,6 +154,8 @@ pub fn render_with_progress(
         background: cam.background,
         aovs: options.aovs,
         sample_cell: (1.0 / options.spp as f32).sqrt(),
+        volumes: &scene.volumes,
+        volume_lights: &volume_lights(&scene.lights),
     };
     let (bands_done, bands) = (AtomicUsize::new(0), bins.tiles_y);
     let band_aovs: Vec<frame::AovBand> = frame
@@ -175,6 +178,18 @@ pub fn render_with_progress(
     stats.raster_shade_ms = ms(t);
     frame.stats = stats;
     Ok(frame)
+}
+
+/// The lights as a volume sees them.
+fn volume_lights(lights: &[Light]) -> Vec<VolumeLight> {
+    lights
+        .iter()
+        .map(|l| match *l {
+            Light::Directional { direction, radiance } => VolumeLight::Directional { to_light: -direction, radiance },
+            Light::Point { position, radiance } => VolumeLight::Point { position, radiance },
+            Light::Ambient { radiance } => VolumeLight::Ambient { radiance },
+        })
+        .collect()
 }
 
 fn ms(t: Instant) -> f64 {
@@ -263,9 +278,22 @@ struct TileJob<'a> {
     aovs: Aovs,
     /// The side of one sample's cell of the pixel (1/sqrt(spp)), which scales its footprint.
     sample_cell: f32,
+    volumes: &'a [Hypertexture],
+    volume_lights: &'a [VolumeLight],
 }
 
 impl TileJob<'_> {
+    /// The volumes in front of an opaque sample `depth` away (its distance along the ray; infinity for
+    /// the background), composited over its colour.
+    #[inline]
+    fn volume_pass(&self, screen: Vec2, depth: f32, behind: Vec3) -> Vec3 {
+        if self.volumes.is_empty() {
+            return behind;
+        }
+        let (origin, dir) = self.camera.ray(screen);
+        self.volumes.iter().fold(behind, |c, v| v.composite(origin, dir, depth, c, self.volume_lights))
+    }
+
     /// Rasterizes, shades and resolves one tile into its band of the frame.
     fn tile(
         &self,
@@ -277,7 +305,7 @@ impl TileJob<'_> {
         w: usize,
         h: usize,
     ) {
-        if self.bins.bins[tile.1 * self.bins.tiles_x + tile.0].is_empty() {
+        if self.bins.bins[tile.1 * self.bins.tiles_x + tile.0].is_empty() && self.volumes.is_empty() {
             // Nothing here: the background, and the AOVs keep their NaN.
             let (x0, tw) = (tile.0 * self.bins.tile_size, self.bins.tile_size.min(w - tile.0 * self.bins.tile_size));
             let rows = band.len() / w;
@@ -323,12 +351,13 @@ impl TileJob<'_> {
                 acc.clear();
                 for s in 0..spp {
                     let k = (y * vis.width + x) * spp + s;
+                    let screen = vis.sample_position(x, y, s, self.pattern);
                     if vis.triangle[k] == EMPTY {
-                        sum += self.background;
+                        sum += self.volume_pass(screen, f32::INFINITY, self.background);
                         continue;
                     }
                     let sample = &shaded[k];
-                    sum += sample.shaded.color;
+                    sum += self.volume_pass(screen, sample.shaded.depth, sample.shaded.color);
                     if self.aovs.any() {
                         acc.add(&sample.shaded, sample.uv, sample.object);
                     }

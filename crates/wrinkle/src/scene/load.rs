@@ -1,13 +1,14 @@
 //! Reading a scene from TOML, field by field, with paths resolved against the scene file's folder.
 
 use super::fields::{number_value, points, vec3_value, Fields};
+use super::procedural;
 use super::{CameraDesc, Object, Scene, Shape};
 use crate::bump::generators::{BrickParams, Generator, GridParams, RivetParams, TextParams};
 use crate::bump::{BumpFormula, BumpTable, Interp};
 use crate::geometry::{Surface, Transform};
 use crate::image::io;
 use crate::raster::Projection;
-use crate::shade::{Bump, BumpFilter, Light, Material, Phong};
+use crate::shade::{Bump, BumpFilter, BumpSource, Light, Material, Phong};
 use crate::{Error, Result};
 use glam::{Vec2, Vec3};
 use std::path::{Path, PathBuf};
@@ -36,7 +37,7 @@ impl Scene {
     /// Parses scene text; relative file names resolve against `base`.
     pub fn parse(text: &str, base: &Path) -> Result<Scene> {
         let root: Value = toml::from_str::<toml::Table>(text).map(Value::Table).map_err(|e| toml_error(text, &e))?;
-        let top = Fields::new("", &root, &["camera", "light", "object"])?;
+        let top = Fields::new("", &root, &["camera", "light", "object", "volume"])?;
         let camera = parse_camera(top.get("camera").ok_or_else(|| Error::scene("camera", "missing table [camera]"))?)?;
         let lights = top
             .tables("light")?
@@ -51,7 +52,13 @@ impl Scene {
             objects.push(object);
             materials.push(material);
         }
-        Ok(Scene { camera, lights, objects, materials })
+        let volumes = top
+            .tables("volume")?
+            .iter()
+            .enumerate()
+            .map(|(i, v)| procedural::parse_volume(&format!("volumes[{i}]"), v))
+            .collect::<Result<Vec<_>>>()?;
+        Ok(Scene { camera, lights, objects, materials, volumes })
     }
 }
 
@@ -251,11 +258,11 @@ fn parse_transform(path: &str, v: &Value) -> Result<Transform> {
 }
 
 fn default_material() -> Material {
-    Material { color: Vec3::splat(0.8), texture: None, phong: Phong::new(0.0, 20.0), bump: None }
+    Material { color: Vec3::splat(0.8), texture: None, phong: Phong::new(0.0, 20.0), bump: None, specular_map: None }
 }
 
 fn parse_material(path: &str, v: &Value, base: &Path) -> Result<Material> {
-    let f = Fields::new(path, v, &["color", "texture", "filter", "specular", "shininess", "bump"])?;
+    let f = Fields::new(path, v, &["color", "texture", "filter", "specular", "shininess", "bump", "specular_map"])?;
     let texture = match f.get("texture") {
         Some(t) => Some(super::texture::parse_texture(&f.at("texture"), t, &f, base)?),
         None if f.get("filter").is_some() => return Err(Error::scene(f.at("filter"), "only with a texture")),
@@ -273,6 +280,10 @@ fn parse_material(path: &str, v: &Value, base: &Path) -> Result<Material> {
             f.number_where("shininess", Some(20.0), positive, "a positive exponent")?,
         ),
         bump,
+        specular_map: f
+            .get("specular_map")
+            .map(|t| super::texture::parse_texture(&f.at("specular_map"), t, &f, base))
+            .transpose()?,
     })
 }
 
@@ -295,12 +306,25 @@ pub(super) fn repeat(f: &Fields) -> Result<Vec2> {
 }
 
 fn parse_bump(path: &str, v: &Value, base: &Path) -> Result<Bump> {
-    let f = Fields::new(path, v, &["map", "generator", "scale", "repeat", "interp", "invariant", "formula", "filter"])?;
-    let image = match (f.string("map")?, f.get("generator")) {
-        (Some(file), None) => io::load_grey(&resolve(base, file))?,
-        (None, Some(g)) => parse_generator(&f.at("generator"), g)?,
-        (Some(_), Some(_)) => return Err(Error::scene(f.at("generator"), "give either map or generator, not both")),
-        (None, None) => return Err(Error::scene(f.at("map"), "missing field (or give a generator)")),
+    let f = Fields::new(
+        path,
+        v,
+        &["map", "generator", "procedural", "scale", "repeat", "interp", "invariant", "formula", "filter"],
+    )?;
+    // A table's image, or the procedural pattern's fields.
+    enum Source<'a> {
+        Image(crate::image::GreyImage),
+        Procedural(&'a Value),
+    }
+    let image = match (f.string("map")?, f.get("generator"), f.get("procedural")) {
+        (None, None, Some(p)) => Source::Procedural(p),
+        (_, _, Some(_)) => return Err(Error::scene(f.at("procedural"), "give one of map, generator, procedural")),
+        (Some(file), None, None) => Source::Image(io::load_grey(&resolve(base, file))?),
+        (None, Some(g), None) => Source::Image(parse_generator(&f.at("generator"), g)?),
+        (Some(_), Some(_), None) => {
+            return Err(Error::scene(f.at("generator"), "give either map or generator, not both"))
+        }
+        (None, None, None) => return Err(Error::scene(f.at("map"), "missing field (or give a generator)")),
     };
     let invariant = f.boolean("invariant", false)?;
     let full = f.choice("formula", false, &[("blinn", false), ("full", true)])?;
@@ -311,7 +335,10 @@ fn parse_bump(path: &str, v: &Value, base: &Path) -> Result<Bump> {
         (true, true) => return Err(Error::scene(f.at("invariant"), "applies to formula = \"blinn\" only")),
     };
     Ok(Bump {
-        table: Arc::new(BumpTable::new(&image)),
+        source: match image {
+            Source::Image(image) => BumpSource::Table(Arc::new(BumpTable::new(&image))),
+            Source::Procedural(p) => BumpSource::Procedural(Arc::new(procedural::parse_bump(&f.at("procedural"), p)?)),
+        },
         scale: f.number_or("scale", 0.05)?,
         repeat: repeat(&f)?,
         interp: f.choice(

@@ -3,11 +3,13 @@
 
 mod fields;
 mod load;
+mod procedural;
 mod texture;
 
 pub use load::DEFAULT_SCENE;
 
 use crate::geometry::{Surface, Transform};
+use crate::procedural::hypertexture::Hypertexture;
 use crate::raster::Projection;
 use crate::shade::{Light, Material};
 use glam::Vec3;
@@ -75,4 +77,6 @@ pub struct Scene {
     pub lights: Vec<Light>,
     pub objects: Vec<Object>,
     pub materials: Vec<Material>,
+    /// Hypertextured volumes, ray marched over the opaque scene.
+    pub volumes: Vec<Hypertexture>,
 }

@@ -16,6 +16,9 @@ const TEXTURE_FIELDS: &[&str] = &["path", "filter", "wrap", "border", "srgb", "r
 /// The texture at `path` (the material's `texture` field); `material` is the material table, whose
 /// `filter` applies to the short form.
 pub fn parse_texture(path: &str, v: &Value, material: &Fields, base: &Path) -> Result<Arc<dyn Texture>> {
+    if super::procedural::is_procedural(v) {
+        return Ok(Arc::new(super::procedural::parse_texture(path, v)?));
+    }
     let beside = material.choice("filter", None, &filter_choices())?;
     let (file, options, srgb) = match v {
         Value::String(s) => {

@@ -14,9 +14,10 @@ pub enum Light {
 }
 
 impl Light {
-    /// Blinn-Phong on eight samples: albedo (N.L) + specular (N.H)^shininess, times the light's radiance at `p`.
+    /// Blinn-Phong on eight samples: albedo (N.L) + k specular (N.H)^shininess, times the light's radiance
+    /// at `p`; `k` in [0, 1] scales each lane's specular (a specular map).
     #[inline]
-    pub fn shade8(&self, p: V3, n: V3, v: V3, albedo: V3, phong: &Phong) -> V3 {
+    pub fn shade8(&self, p: V3, n: V3, v: V3, albedo: V3, phong: &Phong, k: F8) -> V3 {
         let (l, radiance) = match *self {
             Light::Directional { direction, radiance } => (V3::splat(-direction), V3::splat(radiance)),
             Light::Point { position, radiance } => {
@@ -35,7 +36,7 @@ impl Light {
         let ndoth = n.dot(h);
         let glints = ndoth.cmp_gt(F8::splat(phong.cutoff));
         let spec = if glints.any() {
-            glints.blend(F8::splat(phong.specular) * ndoth.pow_f32x8(F8::splat(phong.shininess)), F8::ZERO)
+            glints.blend(F8::splat(phong.specular) * k * ndoth.pow_f32x8(F8::splat(phong.shininess)), F8::ZERO)
         } else {
             F8::ZERO
         };
@@ -68,7 +69,7 @@ mod tests {
     /// One sample shaded in every lane; lane 2 read back.
     fn shade(light: &Light, p: Vec3, n: Vec3, v: Vec3, albedo: Vec3, phong: &Phong) -> Vec3 {
         let s = V3::splat;
-        light.shade8(s(p), s(n), s(v), s(albedo), phong).lane(2)
+        light.shade8(s(p), s(n), s(v), s(albedo), phong, F8::ONE).lane(2)
     }
 
     #[test]
@@ -108,7 +109,8 @@ mod tests {
             Light::Ambient { radiance: Vec3::splat(0.1) },
         ] {
             let albedo = Vec3::new(0.9, 0.6, 0.3);
-            let all = light.shade8(V3::ZERO, V3::from_lanes(&normals), V3::splat(eye), V3::splat(albedo), &phong);
+            let all =
+                light.shade8(V3::ZERO, V3::from_lanes(&normals), V3::splat(eye), V3::splat(albedo), &phong, F8::ONE);
             for (i, n) in normals.iter().enumerate() {
                 let alone = shade(&light, Vec3::ZERO, *n, eye, albedo, &phong);
                 assert!((all.lane(i) - alone).length() < 1e-6, "{light:?} lane {i}");

@@ -2,6 +2,7 @@
 
 use super::light::Phong;
 use crate::bump::{BumpFormula, BumpTable, Interp};
+use crate::procedural::solid::Procedural;
 use crate::texture::{Filter, Texture};
 use glam::{Vec2, Vec3};
 use std::sync::Arc;
@@ -12,6 +13,8 @@ pub struct Material {
     pub texture: Option<Arc<dyn Texture>>,
     pub phong: Phong,
     pub bump: Option<Bump>,
+    /// Multiplies `phong.specular` by the map's mean of R, G, B (clamped to [0, 1]): a Ks map.
+    pub specular_map: Option<Arc<dyn Texture>>,
 }
 
 /// How the bump function is filtered against aliasing (Blinn section 5).
@@ -38,9 +41,17 @@ impl BumpFilter {
     }
 }
 
-/// A bump function: F(u,v) = scale * T(repeat_u u, repeat_v v).
+/// Where F comes from.
+pub enum BumpSource {
+    /// A table T: F(u,v) = scale * T(repeat_u u, repeat_v v).
+    Table(Arc<BumpTable>),
+    /// A procedural pattern t: F = scale * t, with Fu and Fv from its analytic gradient.
+    Procedural(Arc<Procedural>),
+}
+
+/// A bump function: F = scale * (the source at (u,v), or at the object-space point).
 pub struct Bump {
-    pub table: Arc<BumpTable>,
+    pub source: BumpSource,
     pub scale: f32,
     pub repeat: Vec2,
     pub interp: Interp,

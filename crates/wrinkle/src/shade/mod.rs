@@ -5,14 +5,14 @@ pub mod light;
 pub mod material;
 
 pub use light::{Light, Phong};
-pub use material::{Bump, BumpFilter, Material};
+pub use material::{Bump, BumpFilter, BumpSource, Material};
 
 use crate::bump::blinn::{blinn_d8, perturbed_normal};
-use crate::bump::{BumpFormula, Perturbation};
+use crate::bump::{BumpFormula, BumpTable, Perturbation};
 use crate::geometry::frame_lanes::Frame8;
-use crate::geometry::Surface;
+use crate::geometry::{Surface, SurfaceFrame};
 use crate::lanes::{CmpLt, F8, LANES, V3};
-use crate::texture::{FilterOptions, Footprint};
+use crate::texture::{FilterOptions, Footprint, SolidPoint};
 use glam::{Affine3A, Mat3, Vec2, Vec3};
 
 /// One parametric surface placed in the world with its material.
@@ -82,12 +82,13 @@ impl ShadeContext<'_> {
         let n_obj = match (&material.bump, self.bump_enabled) {
             (Some(bump), true) => {
                 let filter = self.bump_filter.unwrap_or(bump.filter);
-                let (f, fu, fv) = match filter {
+                let (f, fu, fv) = match (&bump.source, filter) {
                     // One table level for every lane: the lookups run on all lanes at once.
-                    BumpFilter::None => bump.perturbation8(uv),
+                    (BumpSource::Table(table), BumpFilter::None) => bump.perturbation8(table, uv),
                     _ => {
-                        let b: [Perturbation; LANES] =
-                            std::array::from_fn(|i| bump.perturbation(uv_lane(i), &footprints[i], filter));
+                        let b: [Perturbation; LANES] = std::array::from_fn(|i| {
+                            bump.perturbation(uv_lane(i), &frame.lane(i), &footprints[i], filter)
+                        });
                         (F8::new(b.map(|b| b.f)), F8::new(b.map(|b| b.fu)), F8::new(b.map(|b| b.fv)))
                     }
                 };
@@ -115,47 +116,63 @@ impl ShadeContext<'_> {
             let back = V3::mul_mat3(&inst.normal_matrix, n_geo).dot(v).cmp_lt(F8::ZERO);
             n = V3::select(back, -n, n);
         }
+        let solid = solid_points(frame, footprints);
         let albedo = match &material.texture {
             Some(t) => {
-                let [r, g, b, _] = t.sample8(uv.0, uv.1, footprints);
+                let [r, g, b, _] = t.sample8(uv.0, uv.1, footprints, &solid);
                 V3::splat(material.color) * V3 { x: r, y: g, z: b }
             }
             None => V3::splat(material.color),
         };
         let mut color = V3::ZERO;
-        for light in self.lights {
-            color = color + light.shade8(position, n, v, albedo, &material.phong);
+        match &material.specular_map {
+            // Each lane has its own specular; the cutoff of the full specular stays valid for a smaller one.
+            Some(m) => {
+                let [r, g, b, _] = m.sample8(uv.0, uv.1, footprints, &solid);
+                let k = ((r + g + b) * F8::splat(1.0 / 3.0)).max(F8::ZERO).min(F8::ONE);
+                for light in self.lights {
+                    color = color + light.shade8(position, n, v, albedo, &material.phong, k);
+                }
+            }
+            None => {
+                for light in self.lights {
+                    color = color + light.shade8(position, n, v, albedo, &material.phong, F8::ONE);
+                }
+            }
         }
         ShadedPacket { color, normal: n, depth }
     }
 }
 
 impl Bump {
-    /// F, Fu, Fv at eight (u,v) from the full-resolution table (no footprint filtering).
+    /// F, Fu, Fv at eight (u,v) from the full-resolution `table` (no footprint filtering).
     #[inline]
-    pub fn perturbation8(&self, uv: (F8, F8)) -> (F8, F8, F8) {
+    pub fn perturbation8(&self, table: &BumpTable, uv: (F8, F8)) -> (F8, F8, F8) {
         let (ru, rv) = (F8::splat(self.repeat.x), F8::splat(self.repeat.y));
-        let [f, fs, ft] = self.table.sample8(uv.0 * ru, uv.1 * rv, self.interp, 0);
+        let [f, fs, ft] = table.sample8(uv.0 * ru, uv.1 * rv, self.interp, 0);
         let scale = F8::splat(self.scale);
         (scale * f, scale * ru * fs, scale * rv * ft)
     }
 
-    /// F, Fu, Fv at surface parameters `uv`: the table is replicated `repeat` times and scaled by `scale`.
+    /// F, Fu, Fv at surface parameters `uv` (whose frame is `frame`): a table is replicated `repeat` times
+    /// and scaled by `scale`; a procedural pattern is scaled by `scale` and band-limited to the footprint.
     #[inline]
-    pub fn perturbation(&self, uv: Vec2, footprint: &Footprint, filter: BumpFilter) -> Perturbation {
-        let st = uv * self.repeat;
-        let level = match filter {
-            BumpFilter::None | BumpFilter::Filtered(_) => 0.0,
-            BumpFilter::Mip => {
-                footprint.replicated(self.repeat.x, self.repeat.y).mip_level(self.table.width(), self.table.height())
+    pub fn perturbation(&self, uv: Vec2, frame: &SurfaceFrame, footprint: &Footprint, filter: BumpFilter) -> Perturbation {
+        let table = match &self.source {
+            BumpSource::Table(t) => t,
+            BumpSource::Procedural(p) => {
+                let b = p.bump(self.scale, uv, frame, footprint);
+                return Perturbation { f: b.value, fu: b.grad[0], fv: b.grad[1] };
             }
         };
+        let st = uv * self.repeat;
+        let fp = footprint.replicated(self.repeat.x, self.repeat.y);
         let b = match filter {
+            BumpFilter::None => table.sample(st.x, st.y, self.interp, 0.0),
+            BumpFilter::Mip => table.sample(st.x, st.y, self.interp, fp.mip_level(table.width(), table.height())),
             BumpFilter::Filtered(f) => {
-                let fp = footprint.replicated(self.repeat.x, self.repeat.y);
-                self.table.filtered(st.x, st.y, &fp, &FilterOptions { filter: f, ..FilterOptions::default() })
+                table.filtered(st.x, st.y, &fp, &FilterOptions { filter: f, ..FilterOptions::default() })
             }
-            _ => self.table.sample(st.x, st.y, self.interp, level),
         };
         Perturbation {
             f: self.scale * b.f,
@@ -163,4 +180,15 @@ impl Bump {
             fv: self.scale * self.repeat.y * b.ft,
         }
     }
+}
+
+/// The solid-texture points of eight samples (`procedural::solid::solid_point` on every lane): the
+/// object-space point and the size of its pixel there.
+#[inline]
+fn solid_points(frame: &Frame8, footprints: &[Footprint; LANES]) -> [SolidPoint; LANES] {
+    let lane = |f: fn(&Footprint) -> f32| F8::new(footprints.map(|p| f(&p)));
+    let dx = frame.pu * lane(|p| p.dudx) + frame.pv * lane(|p| p.dvdx);
+    let dy = frame.pu * lane(|p| p.dudy) + frame.pv * lane(|p| p.dvdy);
+    let width = dx.cross(dy).length().sqrt();
+    std::array::from_fn(|i| SolidPoint { p: frame.p.lane(i), width: width.as_array_ref()[i] })
 }

@@ -8,7 +8,7 @@ use super::rgba8::Rgba8Plane;
 use super::texel::Plane;
 use super::wrap::Wrap;
 use super::trilinear8::trilinear8;
-use super::{lane_by_lane, Footprint, Texture};
+use super::{lane_by_lane, Footprint, SolidPoint, Texture};
 use crate::lanes::{F8, LANES};
 use crate::image::color::SrgbEncoder;
 use crate::image::Image;
@@ -104,7 +104,7 @@ impl Texture for FilteredTexture {
         self.lookup(st.x, st.y, &fp)
     }
 
-    fn sample8(&self, u: F8, v: F8, footprints: &[Footprint; LANES]) -> [F8; 4] {
+    fn sample8(&self, u: F8, v: F8, footprints: &[Footprint; LANES], solid: &[SolidPoint; LANES]) -> [F8; 4] {
         let opts = &self.options;
         match &*self.data {
             Levels::Bytes(d)
@@ -116,7 +116,7 @@ impl Texture for FilteredTexture {
                 let fp = footprints.map(|f| f.replicated(ru, rv));
                 trilinear8(d.levels(), u * F8::splat(ru), v * F8::splat(rv), &fp)
             }
-            _ => lane_by_lane(self, u, v, footprints),
+            _ => lane_by_lane(self, u, v, footprints, solid),
         }
     }
 

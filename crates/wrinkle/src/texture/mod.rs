@@ -24,7 +24,7 @@ pub use mip::{LevelRule, MipFilter};
 pub use wrap::Wrap;
 
 use crate::lanes::{F8, LANES};
-use glam::{Vec2, Vec4};
+use glam::{Vec2, Vec3, Vec4};
 
 /// Anything that can be looked up at (u,v). The footprint tells the lookup how large the pixel is,
 /// so that a filter can integrate over it; filters plug in here without touching the shader.
@@ -38,18 +38,39 @@ pub trait Texture: Send + Sync {
         None
     }
 
-    /// Eight lookups at once (the packet shader's), as four channel lanes (R, G, B, A). Sources with a
-    /// faster way override it; by default, one `sample` per lane.
-    fn sample8(&self, u: F8, v: F8, footprints: &[Footprint; LANES]) -> [F8; 4] {
-        lane_by_lane(self, u, v, footprints)
+    /// The lookup at a surface point: solid textures read the object-space point (u = x, v = y, w = z);
+    /// every other texture reads (u,v) as `sample` does.
+    fn sample_at(&self, uv: Vec2, footprint: &Footprint, _solid: &SolidPoint) -> Vec4 {
+        self.sample(uv, footprint)
+    }
+
+    /// Eight lookups at surface points at once (the packet shader's), as four channel lanes (R, G, B, A).
+    /// Sources with a faster way override it; by default, one `sample_at` per lane.
+    fn sample8(&self, u: F8, v: F8, footprints: &[Footprint; LANES], solid: &[SolidPoint; LANES]) -> [F8; 4] {
+        lane_by_lane(self, u, v, footprints, solid)
     }
 }
 
-/// `sample` once per lane, transposed to channel lanes.
-pub fn lane_by_lane<T: Texture + ?Sized>(texture: &T, u: F8, v: F8, footprints: &[Footprint; LANES]) -> [F8; 4] {
+/// `sample_at` once per lane, transposed to channel lanes.
+pub fn lane_by_lane<T: Texture + ?Sized>(
+    texture: &T,
+    u: F8,
+    v: F8,
+    footprints: &[Footprint; LANES],
+    solid: &[SolidPoint; LANES],
+) -> [F8; 4] {
     let (u, v) = (u.as_array_ref(), v.as_array_ref());
-    let texels: [Vec4; LANES] = std::array::from_fn(|i| texture.sample(Vec2::new(u[i], v[i]), &footprints[i]));
+    let texels: [Vec4; LANES] =
+        std::array::from_fn(|i| texture.sample_at(Vec2::new(u[i], v[i]), &footprints[i], &solid[i]));
     std::array::from_fn(|c| F8::new(texels.map(|t| t[c])))
+}
+
+/// The object-space point of a surface sample and the size of its pixel there (the square root of the
+/// area spanned by the screen steps dP/dx, dP/dy), for solid textures.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SolidPoint {
+    pub p: Vec3,
+    pub width: f32,
 }
 
 /// Wraps a coordinate into [0, 1) periodically.

@@ -1,0 +1,186 @@
+//! Procedural patterns in scene files (docs/scene-format.md):
+//!     texture = { procedural = "marble", scale = 3, octaves = 6, colors = [[...], [...]] }
+//!     [object.material.bump]
+//!     procedural = { pattern = "fbm", scale = 8, octaves = 4 }
+//! Every field of the pattern is optional; the default space is "object" (a solid texture).
+//! And hypertextures: `[[volume]]` tables with their `[[volume.modulate]]` functions.
+
+use super::fields::{vec3_value, Fields};
+use crate::procedural::effects::{Kind, Params, Pattern};
+use crate::procedural::fbm::Sum;
+use crate::procedural::hypertexture::{Hypertexture, Modulation, Shading};
+use crate::procedural::solid::{Procedural, Space};
+use crate::procedural::Variant;
+use crate::{Error, Result};
+use glam::Vec3;
+use toml::Value;
+
+/// The pattern fields, besides the one that names the pattern.
+const PATTERN_FIELDS: &[&str] = &[
+    "space",
+    "scale",
+    "seed",
+    "variant",
+    "octaves",
+    "lacunarity",
+    "gain",
+    "strength",
+    "rings",
+    "time",
+    "mortar",
+    "line_width",
+    "colors",
+];
+
+/// Whether a texture table names a procedural pattern.
+pub fn is_procedural(v: &Value) -> bool {
+    v.as_table().is_some_and(|t| t.contains_key("procedural"))
+}
+
+/// `texture = { procedural = "marble", ... }`.
+pub fn parse_texture(path: &str, v: &Value) -> Result<Procedural> {
+    let known: Vec<&str> = std::iter::once("procedural").chain(PATTERN_FIELDS.iter().copied()).collect();
+    let f = Fields::new(path, v, &known)?;
+    parse_pattern(&f, "procedural")
+}
+
+/// `procedural = { pattern = "fbm", ... }` inside a bump table.
+pub fn parse_bump(path: &str, v: &Value) -> Result<Procedural> {
+    let known: Vec<&str> = std::iter::once("pattern").chain(PATTERN_FIELDS.iter().copied()).collect();
+    let f = Fields::new(path, v, &known)?;
+    parse_pattern(&f, "pattern")
+}
+
+fn parse_pattern(f: &Fields, name_key: &str) -> Result<Procedural> {
+    let name = f.required(name_key, f.string(name_key)?)?;
+    let kind = Kind::from_name(name).ok_or_else(|| {
+        let names: Vec<String> = Kind::ALL.iter().map(|k| format!("\"{}\"", k.name())).collect();
+        Error::scene(f.at(name_key), format!("expected one of {}, got \"{name}\"", names.join(", ")))
+    })?;
+    let space = f.choice("space", Space::Object, &[("object", Space::Object), ("uv", Space::Uv)])?;
+    let mut p = Params::new(kind);
+    p.scale = f.number_or("scale", p.scale)?;
+    p.seed = f.integer_where("seed", 0, 0, u32::MAX as usize)? as u64;
+    p.variant =
+        f.choice("variant", Variant::Improved, &[("improved", Variant::Improved), ("classic", Variant::Classic)])?;
+    p.octaves.count = f.integer_where("octaves", p.octaves.count as usize, 1, 24)? as u32;
+    p.octaves.lacunarity = f.number_or("lacunarity", p.octaves.lacunarity)?;
+    p.octaves.gain = f.number_or("gain", p.octaves.gain)?;
+    p.strength = f.number_or("strength", p.strength)?;
+    p.rings = f.number_or("rings", p.rings)?;
+    p.time = f.number_or("time", p.time)?;
+    p.mortar = f.number_or("mortar", p.mortar)?;
+    p.line_width = f.number_or("line_width", p.line_width)?;
+    if let Some(c) = f.get("colors") {
+        p.colors = colors(&f.at("colors"), c)?;
+    }
+    // Parameter errors name the field: "scale: expected ..." -> "objects[0].material.texture.scale: expected ...".
+    let dims = if space == Space::Object { 3 } else { 2 };
+    let pattern = Pattern::new(p, dims, false).map_err(|e| match e {
+        Error::Invalid(m) => match m.split_once(": ") {
+            Some((field, rest)) => Error::scene(f.at(field), rest),
+            None => Error::scene(&f.path, m),
+        },
+        other => other,
+    })?;
+    Ok(Procedural { pattern, space })
+}
+
+const VOLUME_FIELDS: &[&str] =
+    &["center", "radius", "radii", "soft", "density", "step", "shading", "color", "colors", "emission", "modulate"];
+
+/// A `[[volume]]` table: a hypertextured ellipsoid.
+pub fn parse_volume(path: &str, v: &Value) -> Result<Hypertexture> {
+    let f = Fields::new(path, v, VOLUME_FIELDS)?;
+    let positive = |x: f32| x > 0.0;
+    let radii = match (f.get("radius"), f.vec3("radii")?) {
+        (Some(_), Some(_)) => return Err(Error::scene(f.at("radii"), "give either radius or radii, not both")),
+        (_, Some(r)) if r.min_element() <= 0.0 => {
+            return Err(Error::scene(
+                f.at("radii"),
+                format!("expected positive radii, got [{}, {}, {}]", r.x, r.y, r.z),
+            ))
+        }
+        (_, Some(r)) => r,
+        _ => Vec3::splat(f.number_where("radius", Some(1.0), positive, "a positive radius")?),
+    };
+    let shading = match f.choice("shading", "lit", &[("lit", "lit"), ("emissive", "emissive")])? {
+        "lit" => {
+            let c = f.vec3("color")?.unwrap_or(Vec3::splat(0.8));
+            if c.min_element() < 0.0 {
+                return Err(Error::scene(f.at("color"), "expected non-negative colour components"));
+            }
+            Shading::Lit { albedo: c }
+        }
+        _ => Shading::Emissive {
+            colors: match f.get("colors") {
+                Some(c) => colors(&f.at("colors"), c)?,
+                None => Kind::Fire.default_colors(),
+            },
+            emission: f.number_where("emission", Some(2.0), |x| x >= 0.0, "a non-negative number")?,
+        },
+    };
+    let modulations = f
+        .tables("modulate")?
+        .iter()
+        .enumerate()
+        .map(|(i, m)| parse_modulation(&format!("{}[{i}]", f.at("modulate")), m))
+        .collect::<Result<_>>()?;
+    Ok(Hypertexture {
+        center: f.vec3("center")?.unwrap_or(Vec3::ZERO),
+        radii,
+        soft: f.number_where("soft", Some(0.5), |x| x > 0.0 && x <= 1.0, "a fraction above 0, at most 1")?,
+        density: f.number_where("density", Some(10.0), positive, "a positive extinction per unit length")?,
+        step: f.number_where("step", Some(0.01), |x| x >= 1e-4, "a march step of at least 0.0001")?,
+        modulations,
+        shading,
+    })
+}
+
+fn parse_modulation(path: &str, v: &Value) -> Result<Modulation> {
+    let f = Fields::new(path, v, &["kind", "value", "amplitude", "frequency", "octaves", "seed", "drift"])?;
+    let kind = f.required("kind", f.string("kind")?)?;
+    let fraction = |x: f32| x > 0.0 && x < 1.0;
+    match kind {
+        "bias" | "gain" => {
+            f.only_of_kind(&["amplitude", "frequency", "octaves", "seed", "drift"], &[], &format!("kind \"{kind}\""))?;
+            let b = f.number_where("value", None, fraction, "a number between 0 and 1")?;
+            Ok(if kind == "bias" { Modulation::Bias(b) } else { Modulation::Gain(b) })
+        }
+        "noise" | "fbm" | "turbulence" => {
+            f.only_of_kind(&["value"], &[], &format!("kind \"{kind}\""))?;
+            let sum = if kind == "turbulence" { Sum::Turbulence } else { Sum::Fbm };
+            let octaves = if kind == "noise" { 1 } else { f.integer_where("octaves", 5, 1, 24)? as u32 };
+            Ok(Modulation::noise(
+                sum,
+                f.number_or("amplitude", 0.5)?,
+                f.number_where("frequency", Some(2.0), |x| x > 0.0, "a positive frequency")?,
+                octaves,
+                f.integer_where("seed", 0, 0, u32::MAX as usize)? as u64,
+                f.vec3("drift")?.unwrap_or(Vec3::ZERO),
+            ))
+        }
+        other => Err(Error::scene(
+            f.at("kind"),
+            format!("expected one of \"bias\", \"gain\", \"noise\", \"fbm\", \"turbulence\", got \"{other}\""),
+        )),
+    }
+}
+
+fn colors(path: &str, v: &Value) -> Result<Vec<[f32; 3]>> {
+    let Value::Array(list) = v else {
+        return Err(Error::scene(path, "expected an array of colours [r, g, b]"));
+    };
+    if list.is_empty() {
+        return Err(Error::scene(path, "expected at least one colour"));
+    }
+    let out: Vec<[f32; 3]> = list
+        .iter()
+        .enumerate()
+        .map(|(i, c)| vec3_value(&format!("{path}[{i}]"), c).map(|v| v.to_array()))
+        .collect::<Result<_>>()?;
+    if out.iter().any(|c| c.iter().any(|x| *x < 0.0)) {
+        return Err(Error::scene(path, "expected non-negative colour components"));
+    }
+    Ok(out)
+}
