@@ -14,7 +14,7 @@ use wrinkle::raster::Projection;
 use wrinkle::render::{MAX_PIXELS, MAX_SIDE};
 use wrinkle::scene::{CameraDesc, Object, Shape};
 use wrinkle::shade::{Bump, BumpFilter, BumpSource, Light, Material, Phong};
-use wrinkle::texture::ImageTexture;
+use wrinkle::texture::{FilteredTexture, TextureOptions};
 use wrinkle::{render, Error, RenderOptions, Result, Scene};
 
 /// Bump-map a grey height image with Blinn's perturbation, through the renderer (a flat patch seen head-on)
@@ -71,7 +71,7 @@ fn parse_light(text: &str) -> Result<(f32, f32)> {
 
 /// The scene: a `w` x `h` patch in the z = 0 plane (one unit per pixel), an orthographic camera on its
 /// axis seeing exactly the patch, and one directional light.
-pub fn scene(args: &BumpArgs, table: BumpTable, texture: Option<ImageTexture>) -> Result<Scene> {
+pub fn scene(args: &BumpArgs, table: BumpTable, texture: Option<FilteredTexture>) -> Result<Scene> {
     let (az, el) = parse_light(&args.light)?;
     for (name, v, ok) in [
         ("--scale", args.scale, args.scale.is_finite()),
@@ -136,7 +136,7 @@ pub fn run(args: &BumpArgs) -> Result<()> {
         ));
     }
     let texture = match &args.texture {
-        Some(path) => Some(ImageTexture::new(load_rgba8(path)?, true, Vec2::ONE)),
+        Some(path) => Some(FilteredTexture::from_rgba8(&load_rgba8(path)?, true, TextureOptions::default())),
         None => None,
     };
     let scene = scene(args, BumpTable::new(&heights), texture)?;

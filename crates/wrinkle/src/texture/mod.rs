@@ -6,7 +6,6 @@ pub mod filter;
 pub mod filtered;
 pub mod footprint;
 pub mod ground_truth;
-pub mod image_texture;
 pub mod mip;
 pub mod reconstruct;
 pub mod rgba8;
@@ -19,7 +18,6 @@ pub mod wrap;
 pub use filter::{Filter, FilterOptions, Filterable};
 pub use filtered::{FilteredTexture, TextureOptions};
 pub use footprint::Footprint;
-pub use image_texture::ImageTexture;
 pub use mip::{LevelRule, MipFilter};
 pub use wrap::Wrap;
 
