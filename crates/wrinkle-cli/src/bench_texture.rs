@@ -11,7 +11,10 @@ use wrinkle::image::color::srgb8_decode_table;
 use wrinkle::image::Image;
 use wrinkle::texture::mip::build_levels;
 use wrinkle::texture::texel::Plane;
-use wrinkle::texture::{Filter, FilterOptions, FilteredTexture, Footprint, MipFilter, TextureOptions, Wrap};
+use wrinkle::lanes::{F8, LANES};
+use wrinkle::texture::{
+    Filter, FilterOptions, FilteredTexture, Footprint, MipFilter, SolidPoint, Texture, TextureOptions, Wrap,
+};
 use wrinkle::{Error, Result};
 
 #[derive(Args, Debug)]
@@ -104,10 +107,29 @@ fn thread_cpu_s() -> Option<f64> {
 /// this thread when on one thread).
 fn rate(tex: &FilteredTexture, set: &[Lookup], parallel: bool, rounds: usize) -> (f64, Option<f64>) {
     let run = |chunk: &[Lookup]| chunk.iter().fold(Vec4::ZERO, |acc, l| acc + tex.lookup(l.st.x, l.st.y, &l.fp));
+    timed(set, parallel, rounds, run)
+}
+
+/// The same in packets of eight through `Texture::sample8`, as the renderer's packet shader calls it.
+fn rate8(tex: &FilteredTexture, set: &[Lookup], parallel: bool, rounds: usize) -> (f64, Option<f64>) {
+    let solid = [SolidPoint::default(); LANES];
+    let run = |chunk: &[Lookup]| {
+        chunk.chunks_exact(LANES).fold(Vec4::ZERO, |acc, p| {
+            let lane = |f: fn(&Lookup) -> f32| F8::new(std::array::from_fn(|i| f(&p[i])));
+            let fps = std::array::from_fn(|i| p[i].fp);
+            let [r, g, b, a] = tex.sample8(lane(|l| l.st.x), lane(|l| l.st.y), &fps, &solid);
+            acc + Vec4::new(r.reduce_add(), g.reduce_add(), b.reduce_add(), a.reduce_add())
+        })
+    };
+    timed(set, parallel, rounds, run)
+}
+
+/// Times `run` over the set, on this thread or on every worker in chunks.
+fn timed(set: &[Lookup], parallel: bool, rounds: usize, run: impl Fn(&[Lookup]) -> Vec4 + Sync + Send) -> (f64, Option<f64>) {
     let (mut wall, mut cpu) = (Vec::new(), Vec::new());
     for _ in 0..rounds {
         let (t, c) = (Instant::now(), thread_cpu_s());
-        let sum = if parallel { set.par_chunks(4096).map(run).reduce(|| Vec4::ZERO, |a, b| a + b) } else { run(set) };
+        let sum = if parallel { set.par_chunks(4096).map(&run).reduce(|| Vec4::ZERO, |a, b| a + b) } else { run(set) };
         black_box(sum);
         wall.push(t.elapsed().as_secs_f64());
         if let (Some(c0), Some(c1)) = (c, thread_cpu_s()) {
@@ -185,8 +207,10 @@ pub fn run(args: &BenchTextureArgs) -> Result<()> {
                 let (one, one_cpu) = rate(&tex, &set, false, args.rounds);
                 let (all, _) = rate(&tex, &set, true, args.rounds);
                 let cpu = one_cpu.map_or(String::new(), |c| format!(" mlookups_per_cpu_s_1thread={c:.2}"));
+                let (one8, _) = rate8(&tex, &set, false, args.rounds);
+                let (all8, _) = rate8(&tex, &set, true, args.rounds);
                 println!(
-                    "filter={} footprint={shape} order={order} mlookups_per_s_1thread={one:.2}{cpu} mlookups_per_s_{threads}threads={all:.2}",
+                    "filter={} footprint={shape} order={order} mlookups_per_s_1thread={one:.2}{cpu} mlookups_per_s_{threads}threads={all:.2} lanes8_1thread={one8:.2} lanes8_{threads}threads={all8:.2}",
                     filter.name()
                 );
             }
