@@ -9,9 +9,9 @@ use std::hint::black_box;
 use std::time::Instant;
 use wrinkle::image::color::srgb8_decode_table;
 use wrinkle::image::Image;
+use wrinkle::lanes::{F8, LANES};
 use wrinkle::texture::mip::build_levels;
 use wrinkle::texture::texel::Plane;
-use wrinkle::lanes::{F8, LANES};
 use wrinkle::texture::{
     Filter, FilterOptions, FilteredTexture, Footprint, MipFilter, SolidPoint, Texture, TextureOptions, Wrap,
 };
@@ -125,7 +125,12 @@ fn rate8(tex: &FilteredTexture, set: &[Lookup], parallel: bool, rounds: usize) -
 }
 
 /// Times `run` over the set, on this thread or on every worker in chunks.
-fn timed(set: &[Lookup], parallel: bool, rounds: usize, run: impl Fn(&[Lookup]) -> Vec4 + Sync + Send) -> (f64, Option<f64>) {
+fn timed(
+    set: &[Lookup],
+    parallel: bool,
+    rounds: usize,
+    run: impl Fn(&[Lookup]) -> Vec4 + Sync + Send,
+) -> (f64, Option<f64>) {
     let (mut wall, mut cpu) = (Vec::new(), Vec::new());
     for _ in 0..rounds {
         let (t, c) = (Instant::now(), thread_cpu_s());

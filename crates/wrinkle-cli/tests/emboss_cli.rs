@@ -2,78 +2,14 @@
 //! PNG and BMP inputs written here, its output files read back, and the one-line errors of bad input with
 //! nothing left in the output folder.
 
+mod common;
+
+use common::*;
 use std::fs;
-use std::path::{Path, PathBuf};
-use std::process::Command;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::path::Path;
 
 use wrinkle::image::io::{load_grey, load_rgba8, read_exr_channels};
 use wrinkle::image::stream::{write_rows, ImageRows, PngCompression, RowFormat};
-
-/// Input files in `in/`, outputs in `out/`, removed when dropped.
-struct Scratch(PathBuf);
-
-impl Scratch {
-    fn new(name: &str) -> Self {
-        static COUNTER: AtomicUsize = AtomicUsize::new(0);
-        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-        let dir = std::env::temp_dir().join(format!("wrinkle-emboss-cli-{}-{n}-{name}", std::process::id()));
-        let _ = fs::remove_dir_all(&dir);
-        fs::create_dir_all(dir.join("in")).unwrap();
-        fs::create_dir_all(dir.join("out")).unwrap();
-        Scratch(dir)
-    }
-
-    fn input(&self, name: &str) -> String {
-        self.0.join("in").join(name).to_str().unwrap().to_string()
-    }
-
-    fn out(&self, name: &str) -> String {
-        self.0.join("out").join(name).to_str().unwrap().to_string()
-    }
-
-    fn out_entries(&self) -> Vec<String> {
-        let mut names: Vec<String> = fs::read_dir(self.0.join("out"))
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
-        names.sort();
-        names
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = fs::remove_dir_all(&self.0);
-    }
-}
-
-#[derive(Debug)]
-struct Run {
-    code: i32,
-    stderr: String,
-}
-
-fn wrinkle(args: &[&str]) -> Run {
-    let out = Command::new(env!("CARGO_BIN_EXE_wrinkle")).args(args).output().expect("run wrinkle");
-    Run { code: out.status.code().unwrap_or(-1), stderr: String::from_utf8_lossy(&out.stderr).into_owned() }
-}
-
-fn assert_ok(run: &Run) {
-    assert_eq!(run.code, 0, "expected success: {run:#?}");
-}
-
-/// Exit 2, one `error: ` line naming every one of `names`, and an empty output folder.
-fn assert_one_error(run: &Run, names: &[&str], s: &Scratch) {
-    assert_eq!(run.code, 2, "exit code: {run:#?}");
-    let lines: Vec<&str> = run.stderr.lines().collect();
-    assert_eq!(lines.len(), 1, "one line: {:?}", run.stderr);
-    assert!(lines[0].starts_with("error: "), "{:?}", run.stderr);
-    for name in names {
-        assert!(lines[0].contains(name), "must name {name:?}: {:?}", run.stderr);
-    }
-    assert_eq!(s.out_entries(), Vec::<String>::new(), "output folder must stay empty");
-}
 
 /// Writes rows (grey or RGB, 8 or 16 bit) to a PNG or BMP input file.
 fn write_input(path: &str, w: usize, h: usize, rows: RowFormat, data: &[u8]) {
@@ -222,7 +158,7 @@ fn emboss_multiplies_a_texture_of_the_same_or_another_size() {
     fs::remove_file(&out).unwrap();
     fs::remove_file(&grey).unwrap();
     let run = wrinkle(&["emboss", &hp, "-o", &s.out("x.png"), "--texture", &small, "--resample", "none"]);
-    assert_one_error(&run, &["small.png", "6x4", "24x16"], &s);
+    assert_one_error(&run, 2, &["small.png", "6x4", "24x16"], &s);
 }
 
 #[test]
@@ -237,7 +173,7 @@ fn bad_inputs_give_one_line_and_no_output() {
     let cut = s.input("cut.png");
     fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
     for cmd in ["emboss", "normalmap", "heightmap"] {
-        assert_one_error(&wrinkle(&[cmd, &cut, "-o", &out]), &["cut.png", "truncated or corrupt PNG"], &s);
+        assert_one_error(&wrinkle(&[cmd, &cut, "-o", &out]), 2, &["cut.png", "truncated or corrupt PNG"], &s);
     }
 
     // A zero-size image: a TGA header claiming 0x0.
@@ -246,20 +182,25 @@ fn bad_inputs_give_one_line_and_no_output() {
     header[16] = 8;
     let empty = s.input("empty.tga");
     fs::write(&empty, header).unwrap();
-    assert_one_error(&wrinkle(&["emboss", &empty, "-o", &out]), &["empty.tga"], &s);
+    assert_one_error(&wrinkle(&["emboss", &empty, "-o", &out]), 2, &["empty.tga"], &s);
 
     let text = s.input("notes.xyz");
     fs::write(&text, "not an image").unwrap();
-    assert_one_error(&wrinkle(&["emboss", &text, "-o", &out]), &["notes.xyz", "not a supported image"], &s);
-    assert_one_error(&wrinkle(&["emboss", &good, "-o", &s.out("o.gif")]), &["o.gif", ".png or .bmp"], &s);
-    assert_one_error(&wrinkle(&["normalmap", &good, "-o", &s.out("o.jpg")]), &["o.jpg"], &s);
-    assert_one_error(&wrinkle(&["emboss", &s.input("missing.png"), "-o", &out]), &["missing.png", "no such file"], &s);
-    assert_one_error(&wrinkle(&["emboss", &good, "-o", &out, "--max-side", "32"]), &["good.png", "limit of 32"], &s);
-    assert_one_error(&wrinkle(&["emboss", &good, "-o", &out, "--elevation", "100"]), &["--elevation"], &s);
-    assert_one_error(&wrinkle(&["emboss", &good, "-o", &out, "--width", "nan"]), &["--width"], &s);
-    assert_one_error(&wrinkle(&["normalmap", &good, "-o", &out, "--strength", "-1"]), &["--strength"], &s);
-    assert_one_error(&wrinkle(&["bump", &good, "-o", &out, "--light", "10"]), &["--light"], &s);
-    assert_one_error(&wrinkle(&["bump", &cut, "-o", &out]), &["cut.png"], &s);
+    assert_one_error(&wrinkle(&["emboss", &text, "-o", &out]), 2, &["notes.xyz", "not a supported image"], &s);
+    assert_one_error(&wrinkle(&["emboss", &good, "-o", &s.out("o.gif")]), 2, &["o.gif", ".png or .bmp"], &s);
+    assert_one_error(&wrinkle(&["normalmap", &good, "-o", &s.out("o.jpg")]), 2, &["o.jpg"], &s);
+    assert_one_error(
+        &wrinkle(&["emboss", &s.input("missing.png"), "-o", &out]),
+        2,
+        &["missing.png", "no such file"],
+        &s,
+    );
+    assert_one_error(&wrinkle(&["emboss", &good, "-o", &out, "--max-side", "32"]), 2, &["good.png", "limit of 32"], &s);
+    assert_one_error(&wrinkle(&["emboss", &good, "-o", &out, "--elevation", "100"]), 2, &["--elevation"], &s);
+    assert_one_error(&wrinkle(&["emboss", &good, "-o", &out, "--width", "nan"]), 2, &["--width"], &s);
+    assert_one_error(&wrinkle(&["normalmap", &good, "-o", &out, "--strength", "-1"]), 2, &["--strength"], &s);
+    assert_one_error(&wrinkle(&["bump", &good, "-o", &out, "--light", "10"]), 2, &["--light"], &s);
+    assert_one_error(&wrinkle(&["bump", &cut, "-o", &out]), 2, &["cut.png"], &s);
 }
 
 #[test]
