@@ -1,13 +1,13 @@
 //! `wrinkle emboss`: Schlag's fast embossing of a grey image, alone or multiplying a colour texture,
 //! streamed row by row from decoding to encoding.
 
-use crate::image_args::{print_stats, row_bar, Resample, StreamArgs};
+use crate::image_args::{write_filtered, Resample, StreamArgs};
 use clap::Args;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use wrinkle::bump::schlag::{modulate_rgb8, to_grey16, to_grey8, Emboss};
 use wrinkle::image::resample::resample_rgb8;
-use wrinkle::image::stream::{write_rows, ImageRows, RowFormat};
+use wrinkle::image::stream::{ImageRows, RowFormat};
 use wrinkle::image::strips::{filter_3x3, Edges, Window};
 use wrinkle::{Error, Result};
 
@@ -79,21 +79,9 @@ pub fn run(args: &EmbossArgs) -> Result<()> {
             None => to_grey8(shade, out),
         }
     };
-    let bar = row_bar(w, h);
-    let mut kernel_time = Default::default();
-    write_rows(&args.output, w, h, rows, compression, |sink| {
-        let stats =
-            filter_3x3(heights, 255.0, Edges::Clamp, None, texture, rows.row_bytes(w), &kernel, sink, &|done| {
-                bar.set_position(done as u64)
-            })?;
-        kernel_time = stats.kernel;
-        Ok(())
-    })?;
-    bar.finish_and_clear();
-    if args.stream.stats {
-        print_stats("emboss", w, h, start.elapsed(), kernel_time);
-    }
-    Ok(())
+    write_filtered("emboss", &args.stream, compression, &args.output, (w, h), rows, start, |sink, progress| {
+        filter_3x3(heights, 255.0, Edges::Clamp, None, texture, rows.row_bytes(w), &kernel, sink, progress)
+    })
 }
 
 /// The texture's rows at the height image's size: streamed when the sizes agree, else decoded whole and

@@ -3,8 +3,11 @@
 
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
+use std::path::Path;
+use std::time::Instant;
 use wrinkle::image::resample::Filter;
-use wrinkle::image::stream::PngCompression;
+use wrinkle::image::stream::{write_rows, PngCompression, RowFormat};
+use wrinkle::image::strips::StripStats;
 use wrinkle::{Error, Result};
 
 /// Images with at least this many pixels show a progress bar.
@@ -86,8 +89,34 @@ pub fn row_bar(width: usize, height: usize) -> ProgressBar {
     bar
 }
 
+/// Writes `output` from the rows that `filter` streams into its sink (reporting rows done), with a bar over
+/// the rows; with `--stats`, prints the whole command's time since `start` as `what`.
+#[allow(clippy::too_many_arguments)]
+pub fn write_filtered(
+    what: &str,
+    stream: &StreamArgs,
+    compression: PngCompression,
+    output: &Path,
+    (w, h): (usize, usize),
+    rows: RowFormat,
+    start: Instant,
+    filter: impl FnOnce(&mut dyn FnMut(&[u8]) -> Result<()>, &dyn Fn(usize)) -> Result<StripStats>,
+) -> Result<()> {
+    let bar = row_bar(w, h);
+    let mut kernel_time = Default::default();
+    write_rows(output, w, h, rows, compression, |sink| {
+        kernel_time = filter(sink, &|done| bar.set_position(done as u64))?.kernel;
+        Ok(())
+    })?;
+    bar.finish_and_clear();
+    if stream.stats {
+        print_stats(what, w, h, start.elapsed(), kernel_time);
+    }
+    Ok(())
+}
+
 /// Prints the `--stats` line: whole-command time and the arithmetic's throughput.
-pub fn print_stats(what: &str, width: usize, height: usize, total: std::time::Duration, kernel: std::time::Duration) {
+fn print_stats(what: &str, width: usize, height: usize, total: std::time::Duration, kernel: std::time::Duration) {
     let mpix = (width * height) as f64 / 1e6;
     eprintln!(
         "{what}: {width}x{height}, total {:.1} ms ({:.0} Mpixel/s), arithmetic {:.1} ms ({:.0} Mpixel/s), threads={}",

@@ -1,11 +1,11 @@
 //! `wrinkle normalmap`: a tangent-space normal map from a height image, streamed row by row.
 
-use crate::image_args::{print_stats, row_bar, StreamArgs};
+use crate::image_args::{write_filtered, StreamArgs};
 use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 use std::time::Instant;
 use wrinkle::bump::normal_map::{encode_rgb, Convention, Kernel, NormalMap};
-use wrinkle::image::stream::{write_rows, ImageRows, OutputFormat, RowFormat};
+use wrinkle::image::stream::{ImageRows, OutputFormat, RowFormat};
 use wrinkle::image::strips::{filter_3x3, last_row, Edges, Window};
 use wrinkle::{Error, Result};
 
@@ -103,18 +103,7 @@ pub fn run(args: &NormalmapArgs) -> Result<()> {
         map.normals_row(win, nx, ny, nz);
         encode_rgb(nx, ny, nz, sixteen, out);
     };
-    let bar = row_bar(w, h);
-    let mut kernel_time = Default::default();
-    write_rows(&args.output, w, h, rows, compression, |sink| {
-        let stats = filter_3x3(heights, 1.0, edges, last, None, rows.row_bytes(w), &filter, sink, &|done| {
-            bar.set_position(done as u64)
-        })?;
-        kernel_time = stats.kernel;
-        Ok(())
-    })?;
-    bar.finish_and_clear();
-    if args.stream.stats {
-        print_stats("normalmap", w, h, start.elapsed(), kernel_time);
-    }
-    Ok(())
+    write_filtered("normalmap", &args.stream, compression, &args.output, (w, h), rows, start, |sink, progress| {
+        filter_3x3(heights, 1.0, edges, last, None, rows.row_bytes(w), &filter, sink, progress)
+    })
 }
