@@ -163,11 +163,11 @@ pub fn render_with_progress(
         .par_chunks_mut(band_len)
         .enumerate()
         .map_init(
-            || (VisBuffer::new(tile_size, options.spp), Vec::new()),
-            |(vis, shaded), (ty, color)| {
+            || TileScratch { vis: VisBuffer::new(tile_size, options.spp), shaded: Vec::new() },
+            |scratch, (ty, color)| {
                 let mut aov = frame::AovBand::new(options.aovs, color.len());
                 for tx in 0..bins.tiles_x {
-                    job.tile(vis, shaded, (tx, ty), color, &mut aov, w, h);
+                    job.tile(scratch, (tx, ty), color, &mut aov, w, h);
                 }
                 progress(bands_done.fetch_add(1, Ordering::Relaxed) + 1, bands);
                 aov
@@ -297,14 +297,14 @@ impl TileJob<'_> {
     /// Rasterizes, shades and resolves one tile into its band of the frame.
     fn tile(
         &self,
-        vis: &mut VisBuffer,
-        shaded: &mut Vec<Shaded>,
+        scratch: &mut TileScratch,
         tile: (usize, usize),
         band: &mut [[f32; 3]],
         aov: &mut frame::AovBand,
         w: usize,
         h: usize,
     ) {
+        let TileScratch { vis, shaded } = scratch;
         if self.bins.bins[tile.1 * self.bins.tiles_x + tile.0].is_empty() && self.volumes.is_empty() {
             // Nothing here: the background, and the AOVs keep their NaN.
             let (x0, tw) = (tile.0 * self.bins.tile_size, self.bins.tile_size.min(w - tile.0 * self.bins.tile_size));
@@ -403,6 +403,12 @@ impl TileJob<'_> {
         }
         packet.len = 0;
     }
+}
+
+/// One worker's buffers, reused from tile to tile: the visibility buffer and the shaded samples.
+struct TileScratch {
+    vis: VisBuffer,
+    shaded: Vec<Shaded>,
 }
 
 /// Up to eight covered samples of one surface, waiting to be shaded together.

@@ -95,8 +95,8 @@ mod tests {
         let s = F8::new([0.01, 0.5, 0.99, -0.2, 1.37, 0.25, 0.999_9, 3.5]);
         let t = F8::new([0.99, 0.02, 0.5, 2.75, -0.6, 0.33, 0.000_1, 0.5]);
         let got = trilinear8(levels, s, t, &fp);
-        for i in 0..LANES {
-            let level = LevelRule::Longest.level(&fp[i], w, h);
+        for (i, fp) in fp.iter().enumerate() {
+            let level = LevelRule::Longest.level(fp, w, h);
             let want = trilinear(levels, &addr, s.as_array_ref()[i], t.as_array_ref()[i], level);
             for c in 0..4 {
                 let g = got[c].as_array_ref()[i];
