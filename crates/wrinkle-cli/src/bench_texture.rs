@@ -212,10 +212,11 @@ pub fn run(args: &BenchTextureArgs) -> Result<()> {
                 let (one, one_cpu) = rate(&tex, &set, false, args.rounds);
                 let (all, _) = rate(&tex, &set, true, args.rounds);
                 let cpu = one_cpu.map_or(String::new(), |c| format!(" mlookups_per_cpu_s_1thread={c:.2}"));
-                let (one8, _) = rate8(&tex, &set, false, args.rounds);
+                let (one8, one8_cpu) = rate8(&tex, &set, false, args.rounds);
                 let (all8, _) = rate8(&tex, &set, true, args.rounds);
+                let cpu8 = one8_cpu.map_or(String::new(), |c| format!(" lanes8_per_cpu_s_1thread={c:.2}"));
                 println!(
-                    "filter={} footprint={shape} order={order} mlookups_per_s_1thread={one:.2}{cpu} mlookups_per_s_{threads}threads={all:.2} lanes8_1thread={one8:.2} lanes8_{threads}threads={all8:.2}",
+                    "filter={} footprint={shape} order={order} mlookups_per_s_1thread={one:.2}{cpu} mlookups_per_s_{threads}threads={all:.2} lanes8_1thread={one8:.2}{cpu8} lanes8_{threads}threads={all8:.2}",
                     filter.name()
                 );
             }

@@ -4,7 +4,7 @@
 
 use glam::{Affine3A, Mat3, Vec3};
 use std::ops::{Add, Mul, Neg, Sub};
-pub use wide::{f32x8 as F8, CmpGe, CmpGt, CmpLe, CmpLt};
+pub use wide::{f32x8 as F8, i32x8 as I8, CmpEq, CmpGe, CmpGt, CmpLe, CmpLt};
 
 /// The number of samples in a packet.
 pub const LANES: usize = 8;

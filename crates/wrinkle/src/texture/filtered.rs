@@ -6,12 +6,12 @@ use super::filter::{Filter, FilterOptions, Filterable};
 use super::mip::{build_levels, LevelRule, MipFilter};
 use super::rgba8::Rgba8Plane;
 use super::texel::Plane;
-use super::wrap::Wrap;
 use super::trilinear8::trilinear8;
-use super::{lane_by_lane, Footprint, SolidPoint, Texture};
-use crate::lanes::{F8, LANES};
+use super::wrap::Wrap;
+use super::{aniso, lane_by_lane, Footprint, SolidPoint, Texture};
 use crate::image::color::SrgbEncoder;
 use crate::image::Image;
+use crate::lanes::{F8, LANES};
 use glam::{Vec2, Vec4};
 use std::sync::Arc;
 
@@ -89,9 +89,13 @@ impl FilteredTexture {
     /// The filtered texture at (s, t) of one period, footprint in the same units.
     #[inline]
     pub fn lookup(&self, s: f32, t: f32, fp: &Footprint) -> Vec4 {
+        let opts = &self.options.filter;
         match &*self.data {
-            Levels::Float(d) => d.sample(&self.options.filter, self.options.border, s, t, fp),
-            Levels::Bytes(d) => d.sample(&self.options.filter, self.options.border, s, t, fp),
+            Levels::Float(d) => d.sample(opts, self.options.border, s, t, fp),
+            Levels::Bytes(d) if opts.filter == Filter::Aniso && d.wrap() == [Wrap::Repeat; 2] => {
+                aniso::sample_rgba8_repeating(d.levels(), s, t, fp, opts.max_aniso)
+            }
+            Levels::Bytes(d) => d.sample(opts, self.options.border, s, t, fp),
         }
     }
 }
@@ -115,6 +119,17 @@ impl Texture for FilteredTexture {
                 let (ru, rv) = (opts.repeat.x, opts.repeat.y);
                 let fp = footprints.map(|f| f.replicated(ru, rv));
                 trilinear8(d.levels(), u * F8::splat(ru), v * F8::splat(rv), &fp)
+            }
+            Levels::Bytes(d) if opts.filter.filter == Filter::Aniso && d.wrap() == [Wrap::Repeat; 2] => {
+                let (ru, rv) = (opts.repeat.x, opts.repeat.y);
+                let fp = footprints.map(|f| f.replicated(ru, rv));
+                aniso::sample8_rgba8_repeating(
+                    d.levels(),
+                    u * F8::splat(ru),
+                    v * F8::splat(rv),
+                    &fp,
+                    opts.filter.max_aniso,
+                )
             }
             _ => lane_by_lane(self, u, v, footprints, solid),
         }

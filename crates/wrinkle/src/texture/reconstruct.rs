@@ -123,13 +123,17 @@ pub fn bilinear<S: TexelSource>(src: &S, addr: &Addressing<S::Texel>, s: f32, t:
     let (w, h) = (src.width(), src.height());
     let (i0, i1) = (addr.wrap[0].resolve(i, w), addr.wrap[0].resolve(i + 1, w));
     let (j0, j1) = (addr.wrap[1].resolve(j, h), addr.wrap[1].resolve(j + 1, h));
-    let at = |i: Option<usize>, j: Option<usize>| match (i, j) {
-        (Some(i), Some(j)) => src.texel(i, j),
-        _ => addr.border,
+    let [t00, t10, t01, t11] = match (i0, i1, j0, j1) {
+        (Some(i0), Some(i1), Some(j0), Some(j1)) => src.quad([i0, i1], [j0, j1]),
+        _ => {
+            let at = |i: Option<usize>, j: Option<usize>| match (i, j) {
+                (Some(i), Some(j)) => src.texel(i, j),
+                _ => addr.border,
+            };
+            [at(i0, j0), at(i1, j0), at(i0, j1), at(i1, j1)]
+        }
     };
-    let bottom = lerp(at(i0, j0), at(i1, j0), fx);
-    let top = lerp(at(i0, j1), at(i1, j1), fx);
-    lerp(bottom, top, fy)
+    lerp(lerp(t00, t10, fx), lerp(t01, t11, fx), fy)
 }
 
 #[inline]

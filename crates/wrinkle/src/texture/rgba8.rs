@@ -7,6 +7,7 @@ use super::mip::{MipFilter, Resample};
 use super::texel::{Plane, TexelSource};
 use super::wrap::Wrap;
 use crate::image::color::{srgb8_decode_table, SrgbEncoder};
+use crate::lanes::{F8, I8};
 use glam::Vec4;
 use rayon::prelude::*;
 use std::sync::OnceLock;
@@ -15,11 +16,17 @@ use std::sync::OnceLock;
 pub struct Rgba8Plane {
     pub width: usize,
     pub height: usize,
-    /// Row 0 at the bottom.
-    pub texels: Vec<[u8; 4]>,
+    /// Blocks of 4 x 4 texels (64 bytes: one cache line), block rows from the bottom; inside a block, rows
+    /// from the bottom. A bilinear footprint then touches one or two cache lines, not two rows far apart,
+    /// and mostly one memory page: on levels larger than the caches that is most of a lookup's cost.
+    texels: Vec<[u8; 4]>,
+    blocks_per_row: usize,
     srgb: bool,
     decode: &'static [f32; 256],
 }
+
+/// The side of a storage block, in texels.
+const BLOCK: usize = 4;
 
 fn table(srgb: bool) -> &'static [f32; 256] {
     static SRGB: OnceLock<[f32; 256]> = OnceLock::new();
@@ -31,23 +38,70 @@ fn table(srgb: bool) -> &'static [f32; 256] {
     }
 }
 
+/// Where texel (i, j) is stored, with `blocks_per_row` blocks in each block row: the sum of a part that
+/// depends on the row only and one that depends on the column only.
+#[inline]
+fn block_index(i: usize, j: usize, blocks_per_row: usize) -> usize {
+    row_part(j, blocks_per_row) + column_part(i)
+}
+
+#[inline]
+fn row_part(j: usize, blocks_per_row: usize) -> usize {
+    (j / BLOCK) * blocks_per_row * BLOCK * BLOCK + (j % BLOCK) * BLOCK
+}
+
+#[inline]
+fn column_part(i: usize) -> usize {
+    (i / BLOCK) * BLOCK * BLOCK + i % BLOCK
+}
+
 impl Rgba8Plane {
     /// Bytes as stored in an image (row 0 at the top); `srgb`: the colour channels are sRGB-encoded.
     pub fn from_top_rows(width: usize, height: usize, rows: &[[u8; 4]], srgb: bool) -> Self {
-        let mut texels = Vec::with_capacity(width * height);
-        for j in 0..height {
-            let row = height - 1 - j;
-            texels.extend_from_slice(&rows[row * width..(row + 1) * width]);
-        }
-        Rgba8Plane { width, height, texels, srgb, decode: table(srgb) }
+        Rgba8Plane::from_rows(width, height, srgb, |j| &rows[(height - 1 - j) * width..][..width], |&t| t)
     }
 
     /// Linear texels encoded to 8 bits.
     pub fn encode(plane: &Plane<Vec4>, srgb: bool, encoder: &SrgbEncoder) -> Self {
         let unorm = |x: f32| (x.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
         let colour = |x: f32| if srgb { encoder.encode(x) } else { unorm(x) };
-        let texels = plane.texels.par_iter().map(|v| [colour(v.x), colour(v.y), colour(v.z), unorm(v.w)]).collect();
-        Rgba8Plane { width: plane.width, height: plane.height, texels, srgb, decode: table(srgb) }
+        Rgba8Plane::from_rows(
+            plane.width,
+            plane.height,
+            srgb,
+            |j| plane.row(j),
+            |v| [colour(v.x), colour(v.y), colour(v.z), unorm(v.w)],
+        )
+    }
+
+    /// Stores the rows `row(j)` (j from the bottom) in blocks, each texel through `convert`; block rows in
+    /// parallel.
+    fn from_rows<'a, T: Sync + 'a>(
+        width: usize,
+        height: usize,
+        srgb: bool,
+        row: impl Fn(usize) -> &'a [T] + Sync,
+        convert: impl Fn(&T) -> [u8; 4] + Sync,
+    ) -> Self {
+        let blocks_per_row = width.div_ceil(BLOCK);
+        let block_row = blocks_per_row * BLOCK * BLOCK;
+        let mut texels = vec![[0u8; 4]; block_row * height.div_ceil(BLOCK)];
+        // Lane lookups index the texels with i32 (images are at most 16384 x 16384).
+        assert!(texels.len() <= i32::MAX as usize, "an 8-bit plane of {width} x {height} texels is too large");
+        texels.par_chunks_mut(block_row).enumerate().for_each(|(b, out)| {
+            for r in 0..BLOCK.min(height - b * BLOCK) {
+                for (i, t) in row(b * BLOCK + r).iter().enumerate() {
+                    out[block_index(i, r, blocks_per_row)] = convert(t);
+                }
+            }
+        });
+        Rgba8Plane { width, height, texels, blocks_per_row, srgb, decode: table(srgb) }
+    }
+
+    #[inline]
+    fn decode_one(&self, t: [u8; 4]) -> Vec4 {
+        let d = self.decode;
+        Vec4::new(d[t[0] as usize], d[t[1] as usize], d[t[2] as usize], t[3] as f32 * (1.0 / 255.0))
     }
 
     /// The texels in linear light.
@@ -55,6 +109,105 @@ impl Rgba8Plane {
         let texels =
             (0..self.width * self.height).into_par_iter().map(|k| self.texel(k % self.width, k / self.width)).collect();
         Plane { width: self.width, height: self.height, texels }
+    }
+
+    /// Blocks per block row: with the texel's (i, j), what the lane form of the storage index needs.
+    #[inline]
+    pub fn blocks_per_row(&self) -> usize {
+        self.blocks_per_row
+    }
+
+    /// `row_part` on eight lanes: with `column_part8`, the storage index of texel (i, j) is their sum.
+    #[inline]
+    pub fn row_part8(j: I8, blocks_per_row: I8) -> I8 {
+        let (mask, shift) = (I8::splat(BLOCK as i32 - 1), BLOCK.trailing_zeros() as i32);
+        (((j >> shift) * blocks_per_row) << (2 * shift)) + ((j & mask) << shift)
+    }
+
+    /// `column_part` on eight lanes.
+    #[inline]
+    pub fn column_part8(i: I8) -> I8 {
+        let (mask, shift) = (I8::splat(BLOCK as i32 - 1), BLOCK.trailing_zeros() as i32);
+        ((i >> shift) << (2 * shift)) + (i & mask)
+    }
+
+    /// The texel at storage index `index` (see `row_part8`) as one word: R in the low byte, A in the high.
+    #[inline]
+    pub fn word(&self, index: usize) -> u32 {
+        u32::from_le_bytes(self.texels[index])
+    }
+
+    /// Asks the cache for the block of the texel at (s, t) in [0, 1] (a hint: nothing is read or checked).
+    #[inline]
+    pub fn prefetch(&self, s: f32, t: f32) {
+        let i = ((s * self.width as f32) as usize).min(self.width - 1);
+        let j = ((t * self.height as f32) as usize).min(self.height - 1);
+        let texel = &self.texels[block_index(i, j, self.blocks_per_row)];
+        #[cfg(all(target_arch = "x86_64", target_feature = "sse"))]
+        // SAFETY: a prefetch never faults, and the pointer is to a texel of this plane.
+        unsafe {
+            std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(texel.as_ptr().cast())
+        };
+        #[cfg(not(all(target_arch = "x86_64", target_feature = "sse")))]
+        let _ = texel;
+    }
+
+    /// The texels at storage indices `index` (see `row_part8`), decoded to channel lanes. An index
+    /// outside the plane reads its nearest end instead (never memory outside).
+    #[inline]
+    pub fn gather8(&self, index: I8) -> [F8; 4] {
+        let index = index.max(I8::splat(0)).min(I8::splat(self.texels.len() as i32 - 1));
+        #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+        // SAFETY: AVX2 is enabled at compile time; every index was clamped into the texels above (`from_rows`
+        // keeps the count within i32); `I8` and `__m256i` are both eight i32.
+        let words: I8 = unsafe {
+            use std::arch::x86_64::*;
+            let index: __m256i = std::mem::transmute(index);
+            std::mem::transmute(_mm256_i32gather_epi32::<4>(self.texels.as_ptr().cast(), index))
+        };
+        #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
+        let words = I8::new(index.to_array().map(|k| self.word(k as usize) as i32));
+        self.decode8(words)
+    }
+
+    /// Eight texel words decoded to linear RGBA channel lanes, as `texel` decodes one.
+    #[inline]
+    pub fn decode8(&self, words: I8) -> [F8; 4] {
+        #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+        {
+            decode8_avx2(self.decode, words)
+        }
+        #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
+        {
+            let words = words.to_array().map(|w| w as u32);
+            let channel = |c: usize| F8::new(words.map(|w| self.decode[(w >> (8 * c)) as usize & 0xFF]));
+            let alpha = F8::new(words.map(|w| (w >> 24) as f32)) * F8::splat(1.0 / 255.0);
+            [channel(0), channel(1), channel(2), alpha]
+        }
+    }
+}
+
+/// The colour channels through the decode table with three gathers (the table stays in L1), alpha scaled.
+#[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+#[inline]
+fn decode8_avx2(table: &[f32; 256], words: I8) -> [F8; 4] {
+    use std::arch::x86_64::*;
+    // SAFETY: AVX2 is enabled at compile time (cfg above); every gather index is masked to 0..=255, inside
+    // the 256-entry table; `__m256` and `F8` are both eight f32 lanes and `__m256i` and `I8` eight i32, so the
+    // transmutes only rename.
+    unsafe {
+        let v: __m256i = std::mem::transmute(words);
+        let byte = _mm256_set1_epi32(0xFF);
+        let channel = |c: __m256i| -> F8 {
+            std::mem::transmute(_mm256_i32gather_ps::<4>(table.as_ptr(), _mm256_and_si256(c, byte)))
+        };
+        let alpha = _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_srli_epi32::<24>(v)), _mm256_set1_ps(1.0 / 255.0));
+        [
+            channel(v),
+            channel(_mm256_srli_epi32::<8>(v)),
+            channel(_mm256_srli_epi32::<16>(v)),
+            std::mem::transmute::<__m256, F8>(alpha),
+        ]
     }
 }
 
@@ -70,14 +223,40 @@ impl TexelSource for Rgba8Plane {
     }
     #[inline]
     fn texel(&self, i: usize, j: usize) -> Vec4 {
-        let t = self.texels[j * self.width + i];
-        let d = self.decode;
-        Vec4::new(d[t[0] as usize], d[t[1] as usize], d[t[2] as usize], t[3] as f32 * (1.0 / 255.0))
+        self.decode_one(self.texels[block_index(i, j, self.blocks_per_row)])
+    }
+    #[inline]
+    fn quad(&self, i: [usize; 2], j: [usize; 2]) -> [Vec4; 4] {
+        let (c, r) = (i.map(column_part), j.map(|j| row_part(j, self.blocks_per_row)));
+        [r[0] + c[0], r[0] + c[1], r[1] + c[0], r[1] + c[1]].map(|k| self.decode_one(self.texels[k]))
     }
 }
 
 impl Resample for Rgba8Plane {
     fn downsample(&self, nw: usize, nh: usize, filter: MipFilter, wrap: [Wrap; 2]) -> Self {
         Rgba8Plane::encode(&self.decode().downsample(nw, nh, filter, wrap), self.srgb, &SrgbEncoder::new())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Blocked storage returns every texel of an odd-sized image where it was, in both index forms.
+    #[test]
+    fn blocks_keep_every_texel_in_place() {
+        let (w, h) = (13, 6);
+        let rows: Vec<[u8; 4]> = (0..w * h).map(|k| [k as u8, (k / w) as u8, (k % w) as u8, 255]).collect();
+        let plane = Rgba8Plane::from_top_rows(w, h, &rows, false);
+        let blocks = I8::splat(plane.blocks_per_row() as i32);
+        for j in 0..h {
+            for i in 0..w {
+                let want = rows[(h - 1 - j) * w + i];
+                assert_eq!(plane.texel(i, j), Vec4::from(want.map(|b| b as f32 / 255.0)), "({i}, {j})");
+                let index =
+                    Rgba8Plane::row_part8(I8::splat(j as i32), blocks) + Rgba8Plane::column_part8(I8::splat(i as i32));
+                assert_eq!(plane.word(index.as_array_ref()[0] as usize), u32::from_le_bytes(want));
+            }
+        }
     }
 }

@@ -58,6 +58,13 @@ pub trait TexelSource: Sync {
     fn width(&self) -> usize;
     fn height(&self) -> usize;
     fn texel(&self, i: usize, j: usize) -> Self::Texel;
+
+    /// The four texels of a bilinear footprint: (i[0], j[0]), (i[1], j[0]), (i[0], j[1]), (i[1], j[1]).
+    /// Sources whose index is costly to compute share its parts between the four.
+    #[inline]
+    fn quad(&self, i: [usize; 2], j: [usize; 2]) -> [Self::Texel; 4] {
+        [self.texel(i[0], j[0]), self.texel(i[1], j[0]), self.texel(i[0], j[1]), self.texel(i[1], j[1])]
+    }
 }
 
 /// One image of texels, row 0 at the bottom.

@@ -5,7 +5,7 @@
 use super::rgba8::Rgba8Plane;
 use super::texel::TexelSource;
 use super::Footprint;
-use crate::lanes::{CmpGt, F8, LANES};
+use crate::lanes::{CmpEq, CmpGt, CmpLt, F8, I8, LANES};
 
 /// RGBA as four channel lanes.
 pub type Rgba8 = [F8; 4];
@@ -35,37 +35,91 @@ pub fn trilinear8(levels: &[Rgba8Plane], s: F8, t: F8, fp: &[Footprint; LANES]) 
     std::array::from_fn(|c| a[c] + (b[c] - a[c]) * frac)
 }
 
-/// Bilinear lookups at (s, t) in [0, 1), lane i on level `level[i]`, repeating.
+/// Bilinear lookups at (s, t) in [0, 1], lane i on level `level[i]`, repeating.
 #[inline]
 fn bilinear8(levels: &[Rgba8Plane], level: &[usize; LANES], s: F8, t: F8) -> Rgba8 {
-    let (w, h) = (F8::new(level.map(|l| levels[l].width as f32)), F8::new(level.map(|l| levels[l].height as f32)));
-    let (x, y) = (s * w - F8::splat(0.5), t * h - F8::splat(0.5));
+    if level.iter().all(|&l| l == level[0]) {
+        bilinear8_on(&OneLevel(&levels[level[0]]), s, t)
+    } else {
+        bilinear8_on(&LevelPerLane(std::array::from_fn(|i| &levels[level[i]])), s, t)
+    }
+}
+
+/// Where a lane lookup reads its texels: the levels' sizes and the texels at storage indices.
+pub(super) trait LaneTexels {
+    /// Width, height and blocks per block row, per lane.
+    fn sizes(&self) -> [I8; 3];
+    /// The texels at `index` (storage indices, see `Rgba8Plane::row_part8`), decoded.
+    fn fetch(&self, index: I8) -> Rgba8;
+}
+
+/// Every lane on one level: the texels are gathered (the common case: a lookup's probes, or a packet
+/// of neighbouring samples).
+pub(super) struct OneLevel<'a>(pub &'a Rgba8Plane);
+
+impl LaneTexels for OneLevel<'_> {
+    #[inline]
+    fn sizes(&self) -> [I8; 3] {
+        [self.0.width, self.0.height, self.0.blocks_per_row()].map(|n| I8::splat(n as i32))
+    }
+    #[inline]
+    fn fetch(&self, index: I8) -> Rgba8 {
+        self.0.gather8(index)
+    }
+}
+
+/// A level per lane: the texels are read lane by lane.
+struct LevelPerLane<'a>([&'a Rgba8Plane; LANES]);
+
+impl LaneTexels for LevelPerLane<'_> {
+    #[inline]
+    fn sizes(&self) -> [I8; 3] {
+        let mut sizes = [[0i32; LANES]; 3];
+        for (l, plane) in self.0.iter().enumerate() {
+            sizes[0][l] = plane.width as i32;
+            sizes[1][l] = plane.height as i32;
+            sizes[2][l] = plane.blocks_per_row() as i32;
+        }
+        sizes.map(I8::new)
+    }
+    #[inline]
+    fn fetch(&self, index: I8) -> Rgba8 {
+        let index = index.as_array_ref();
+        let mut words = [0i32; LANES];
+        for l in 0..LANES {
+            words[l] = self.0[l].word(index[l] as usize) as i32;
+        }
+        // The levels of one texture share its decoding.
+        self.0[0].decode8(I8::new(words))
+    }
+}
+
+/// Bilinear lookups at (s, t) in [0, 1], repeating. Tap positions, wraps and weights run on the lanes.
+#[inline]
+pub(super) fn bilinear8_on(src: &impl LaneTexels, s: F8, t: F8) -> Rgba8 {
+    let [w, h, blocks] = src.sizes();
+    let (x, y) = (s * w.round_float() - F8::splat(0.5), t * h.round_float() - F8::splat(0.5));
     let (xf, yf) = (x.floor(), y.floor());
     let (fx, fy) = (x - xf, y - yf);
-    let (xf, yf) = (xf.as_array_ref(), yf.as_array_ref());
-    // Texel i of lane l: [i0j0, i1j0, i0j1, i1j1] by channel.
-    let mut taps = [[[0.0f32; LANES]; 4]; 4];
-    for l in 0..LANES {
-        let plane = &levels[level[l]];
-        let (pw, ph) = (plane.width as i32, plane.height as i32);
-        // x is in [-0.5, w - 0.5): the taps are floor(x) and the next, -1 and w wrapping round.
-        let i0 = xf[l] as i32;
-        let (i0, i1) = (if i0 < 0 { pw - 1 } else { i0 }, if i0 + 1 >= pw { 0 } else { i0 + 1 });
-        let j0 = yf[l] as i32;
-        let (j0, j1) = (if j0 < 0 { ph - 1 } else { j0 }, if j0 + 1 >= ph { 0 } else { j0 + 1 });
-        for (k, (i, j)) in [(i0, j0), (i1, j0), (i0, j1), (i1, j1)].into_iter().enumerate() {
-            let texel = plane.texel(i as usize, j as usize).to_array();
-            for c in 0..4 {
-                taps[k][c][l] = texel[c];
-            }
-        }
-    }
-    let [t00, t10, t01, t11] = taps.map(|t| t.map(F8::new));
+    // x is in [-0.5, w - 0.5]: the taps are floor(x) and the next, -1 and w wrapping round.
+    let (i0, i1) = wrapped_pair(xf.round_int(), w);
+    let (j0, j1) = wrapped_pair(yf.round_int(), h);
+    let (c0, c1) = (Rgba8Plane::column_part8(i0), Rgba8Plane::column_part8(i1));
+    let (r0, r1) = (Rgba8Plane::row_part8(j0, blocks), Rgba8Plane::row_part8(j1, blocks));
+    let (t00, t10, t01, t11) = (src.fetch(r0 + c0), src.fetch(r0 + c1), src.fetch(r1 + c0), src.fetch(r1 + c1));
     std::array::from_fn(|c| {
         let bottom = t00[c] + (t10[c] - t00[c]) * fx;
         let top = t01[c] + (t11[c] - t01[c]) * fx;
         bottom + (top - bottom) * fy
     })
+}
+
+/// Texel `k` in [-1, n - 1] and the next one, both wrapped into [0, n).
+#[inline]
+fn wrapped_pair(k: I8, n: I8) -> (I8, I8) {
+    let k = k.cmp_lt(I8::splat(0)).blend(n - 1, k);
+    let next = k + 1;
+    (k, next.cmp_eq(n).blend(I8::splat(0), next))
 }
 
 #[cfg(test)]
