@@ -19,9 +19,10 @@
 use super::reconstruct::{bilinear, Addressing};
 use super::texel::{Texel, TexelSource};
 use super::Footprint;
+use crate::lanes::{F8, LANES};
 use glam::Vec2;
-use std::ops::RangeInclusive;
 use std::sync::OnceLock;
+use wide::i32x8 as I8;
 
 /// Standard deviations of the pixel's Gaussian (in pixels) and of the texel reconstruction Gaussian (in
 /// texels of the level read): a little above those of the one-pixel box (0.289) and of the bilinear tent
@@ -32,8 +33,8 @@ const RECON_SIGMA: f32 = 0.42;
 /// The Gaussian is cut where Q reaches RADIUS^2 (2.5 standard deviations: weight 4%).
 const RADIUS: f32 = 2.5;
 const TABLE_SIZE: usize = 256;
-/// Rows whose spans and first texels are read ahead of the rest (see `Ellipse::sum_rows`).
-const ROW_BATCH: usize = 16;
+/// The relative widening of R^2 for the rows' spans (see `Ellipse::spans`).
+const SPAN_SLACK: f32 = 0.01;
 /// Q times this is the table index.
 const Q_TO_INDEX: f32 = TABLE_SIZE as f32 / (RADIUS * RADIUS);
 
@@ -122,6 +123,12 @@ fn weights() -> &'static [f32; TABLE_SIZE + 1] {
             }
         })
     })
+}
+
+/// 0, 1, .. 7: the offsets of the eight lanes.
+#[inline]
+fn lane_index() -> F8 {
+    F8::new(std::array::from_fn(|l| l as f32))
 }
 
 /// EWA over a MIP pyramid (`levels[0]` the full texture) at (s, t) for footprint `fp`.
@@ -223,75 +230,64 @@ impl Ellipse {
         self.i0 >= 0 && self.j0 >= 0 && (self.i1 as usize) < w && (self.j1 as usize) < h
     }
 
-    /// Q's terms along row j that do not depend on dx: (kb dy, kc dy^2).
+    /// The columns of the eight rows from `first` that can be inside the ellipse (first and last column
+    /// of each, empty where last < first): between the roots of ka dx^2 + (kb dy) dx + kc dy^2 =
+    /// R^2 (1 + SPAN_SLACK), within the bounding box. The slack widens each span by at least 0.005 texels
+    /// (Q's slope at the ellipse is at most 2 R sqrt(ka), ka at most 1 / RECON_SIGMA^2), more than the
+    /// roots' rounding (1e-3 texels at 4096 texels from the origin): every texel the weights keep is in.
     #[inline]
-    fn row_terms(&self, j: isize) -> (f32, f32) {
+    fn spans(&self, first: isize) -> ([i32; LANES], [i32; LANES]) {
+        let dy = F8::splat(first as f32) + lane_index() - F8::splat(self.cy);
+        let (qb, qc) = (F8::splat(self.kb) * dy, F8::splat(self.kc) * dy * dy);
+        let disc = qb * qb - F8::splat(4.0 * self.ka) * (qc - F8::splat(RADIUS * RADIUS * (1.0 + SPAN_SLACK)));
+        let half = disc.max(F8::ZERO).sqrt() * F8::splat(self.half_over_ka);
+        let mid = F8::splat(self.cx) - qb * F8::splat(self.half_over_ka);
+        let (i0, i1) = (I8::splat(self.i0 as i32), I8::splat(self.i1 as i32));
+        let lo = (mid - half).ceil().fast_trunc_int().max(i0);
+        let hi = (mid + half).floor().fast_trunc_int().min(i1);
+        (lo.to_array(), hi.to_array())
+    }
+
+    /// The table indices of the eight columns from `first` in row j: Q scaled so that R^2 reads entry
+    /// TABLE_SIZE (zero), computed operation for operation as the original `(scaled Q) as usize` (negative
+    /// rounding noise reads entry 0).
+    #[inline]
+    fn indices(&self, first: i32, j: isize) -> [i32; LANES] {
         let dy = j as f32 - self.cy;
-        (self.kb * dy, self.kc * dy * dy)
+        let (qb, qc) = (self.kb * dy, self.kc * dy * dy);
+        let dx = F8::splat(first as f32) + lane_index() - F8::splat(self.cx);
+        let q = ((F8::splat(self.ka) * dx + F8::splat(qb)) * dx + F8::splat(qc)) * F8::splat(Q_TO_INDEX);
+        q.max(F8::ZERO).min(F8::splat(TABLE_SIZE as f32)).fast_trunc_int().to_array()
     }
 
-    /// The columns of row j that can be inside the ellipse: between the roots of
-    /// ka dx^2 + qb dx + qc = R^2, one more texel on each side because the roots are rounded (the weights
-    /// decide), within the bounding box and never empty.
+    /// The weighted sum and the sum of weights over row j's columns `lo..=hi`, `fetch(i, j)` reading
+    /// texel (i, j); eight columns' weights at a time.
     #[inline]
-    fn span(&self, (qb, qc): (f32, f32)) -> (isize, isize) {
-        let disc = qb * qb - 4.0 * self.ka * (qc - RADIUS * RADIUS);
-        let half = disc.max(0.0).sqrt() * self.half_over_ka;
-        let mid = self.cx - qb * self.half_over_ka;
-        let lo = ((mid - half).ceil() as isize - 1).clamp(self.i0, self.i1);
-        let hi = ((mid + half).floor() as isize + 1).clamp(lo, self.i1);
-        (lo, hi)
-    }
-
-    /// The weight of column i in the row with terms (qb, qc): the table's entry for Q, zero outside the
-    /// ellipse. The index is the original `(scaled Q) as usize` (negative rounding noise reads entry 0),
-    /// without a branch: the row's texels are summed straight through.
-    #[inline]
-    fn weight(&self, i: isize, (qb, qc): (f32, f32)) -> f32 {
-        let dx = i as f32 - self.cx;
-        let q = ((self.ka * dx + qb) * dx + qc) * Q_TO_INDEX;
-        // Through i32: a float-to-usize conversion costs several times more instructions.
-        self.table[q.clamp(0.0, TABLE_SIZE as f32) as i32 as usize]
+    fn sum_row<T: Texel>(&self, j: isize, lo: i32, hi: i32, fetch: &impl Fn(isize, isize) -> T) -> (T, f32) {
+        let (mut sum, mut wsum) = (T::default(), 0.0);
+        for first in (lo..=hi).step_by(LANES) {
+            let k = self.indices(first, j);
+            for (i, &k) in (first..=hi).zip(&k) {
+                let weight = self.table[k as usize];
+                sum = sum + fetch(i as isize, j) * weight;
+                wsum += weight;
+            }
+        }
+        (sum, wsum)
     }
 
     /// The weighted sum and the sum of weights over the ellipse, `fetch(i, j)` reading texel (i, j).
     #[inline]
     fn sum<T: Texel>(&self, fetch: impl Fn(isize, isize) -> T) -> (T, f32) {
         let (mut sum, mut wsum) = (T::default(), 0.0);
-        for first in (self.j0..=self.j1).step_by(ROW_BATCH) {
-            let rows = first..=self.j1.min(first + ROW_BATCH as isize - 1);
-            let (batch_sum, batch_wsum) = self.sum_rows(rows, &fetch);
-            sum = sum + batch_sum;
-            wsum += batch_wsum;
-        }
-        (sum, wsum)
-    }
-
-    /// The same over up to ROW_BATCH rows. Each row's span and first texel come first, for every row: the
-    /// rows' reads then miss the cache all at once rather than one row after the other, and the rest of
-    /// each row is on the lines they brought in.
-    #[inline]
-    fn sum_rows<T: Texel>(&self, rows: RangeInclusive<isize>, fetch: impl Fn(isize, isize) -> T) -> (T, f32) {
-        let mut spans = [(0, 0, (0.0, 0.0)); ROW_BATCH];
-        let mut heads = [(T::default(), 0.0); ROW_BATCH];
-        for ((j, span), head) in rows.clone().zip(&mut spans).zip(&mut heads) {
-            let terms = self.row_terms(j);
-            let (lo, hi) = self.span(terms);
-            let weight = self.weight(lo, terms);
-            *span = (lo, hi, terms);
-            *head = (fetch(lo, j) * weight, weight);
-        }
-        let (mut sum, mut wsum) = (T::default(), 0.0);
-        for ((j, &(lo, hi, terms)), &(head, head_weight)) in rows.zip(&spans).zip(&heads) {
-            // A sum per row: the rows' dependency chains overlap.
-            let (mut row_sum, mut row_wsum) = (head, head_weight);
-            for i in lo + 1..=hi {
-                let weight = self.weight(i, terms);
-                row_sum = row_sum + fetch(i, j) * weight;
-                row_wsum += weight;
+        for first in (self.j0..=self.j1).step_by(LANES) {
+            let (lo, hi) = self.spans(first);
+            for ((j, lo), hi) in (first..=self.j1).zip(lo).zip(hi) {
+                // A sum per row: the rows' dependency chains overlap.
+                let (row_sum, row_wsum) = self.sum_row(j, lo, hi, &fetch);
+                sum = sum + row_sum;
+                wsum += row_wsum;
             }
-            sum = sum + row_sum;
-            wsum += row_wsum;
         }
         (sum, wsum)
     }
@@ -373,18 +369,22 @@ mod tests {
             seed ^= seed << 17;
             (seed >> 40) as f32 / (1u64 << 24) as f32
         };
-        let (w, h) = (64, 48);
-        let texels = (0..w * h).map(|_| Vec4::new(random(), random(), random(), random())).collect();
-        let base = Plane { width: w, height: h, texels };
-        for wrap in Wrap::NAMES.map(|(_, wrap)| wrap) {
+        // A small texture, and a wide one where x reaches 2048 texels (coarser f32 steps in i - cx).
+        for ((w, h), wrap) in
+            [(64, 48), (2048, 8)].into_iter().flat_map(|size| Wrap::NAMES.map(|(_, wrap)| (size, wrap)))
+        {
+            let texels = (0..w * h).map(|_| Vec4::new(random(), random(), random(), random())).collect();
+            let base = Plane { width: w, height: h, texels };
             let data = Filterable::new(base.clone(), MipFilter::Box, [wrap; 2]);
             let addr = Addressing { wrap: [wrap; 2], border: Vec4::new(0.9, 0.1, 0.5, 1.0) };
             for k in 0..400 {
                 let (ratio, width, angle) = (if k % 2 == 0 { 1.0 } else { 8.0 }, random() * 0.1, random() * 7.0);
                 let (c, sn) = (angle.cos(), angle.sin());
-                let fp = Footprint { dudx: ratio * width * c, dvdx: ratio * width * sn, dudy: -width * sn, dvdy: width * c };
+                let fp =
+                    Footprint { dudx: ratio * width * c, dvdx: ratio * width * sn, dudy: -width * sn, dvdy: width * c };
                 // Half the centres near a corner, so that the ellipse crosses the edges.
-                let (s, t) = if k % 4 < 2 { (random(), random()) } else { (random() * 0.1 - 0.05, 1.0 + random() * 0.1 - 0.05) };
+                let (s, t) =
+                    if k % 4 < 2 { (random(), random()) } else { (random() * 0.1 - 0.05, 1.0 + random() * 0.1 - 0.05) };
                 let got = sample(data.levels(), &addr, s, t, &fp, 16.0);
                 let want = brute_force(data.levels(), &addr, s, t, &fp);
                 assert!((got - want).abs().max_element() < 1e-5, "{wrap:?} {fp:?} at ({s}, {t}): {got} vs {want}");
