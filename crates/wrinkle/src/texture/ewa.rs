@@ -240,7 +240,7 @@ impl Ellipse {
         let dy = F8::splat(first as f32) + lane_index() - F8::splat(self.cy);
         let (qb, qc) = (F8::splat(self.kb) * dy, F8::splat(self.kc) * dy * dy);
         let disc = qb * qb - F8::splat(4.0 * self.ka) * (qc - F8::splat(RADIUS * RADIUS * (1.0 + SPAN_SLACK)));
-        let half = disc.max(F8::ZERO).sqrt() * F8::splat(self.half_over_ka);
+        let half = disc.fast_max(F8::ZERO).sqrt() * F8::splat(self.half_over_ka);
         let mid = F8::splat(self.cx) - qb * F8::splat(self.half_over_ka);
         let (i0, i1) = (I8::splat(self.i0 as i32), I8::splat(self.i1 as i32));
         let lo = (mid - half).ceil().fast_trunc_int().max(i0);
@@ -257,7 +257,7 @@ impl Ellipse {
         let (qb, qc) = (self.kb * dy, self.kc * dy * dy);
         let dx = F8::splat(first as f32) + lane_index() - F8::splat(self.cx);
         let q = ((F8::splat(self.ka) * dx + F8::splat(qb)) * dx + F8::splat(qc)) * F8::splat(Q_TO_INDEX);
-        q.max(F8::ZERO).min(F8::splat(TABLE_SIZE as f32)).fast_trunc_int().to_array()
+        q.fast_max(F8::ZERO).fast_min(F8::splat(TABLE_SIZE as f32)).fast_trunc_int().to_array()
     }
 
     /// The weighted sum and the sum of weights over row j's columns `lo..=hi`, `fetch(i, j)` reading
@@ -265,9 +265,10 @@ impl Ellipse {
     #[inline]
     fn sum_row<T: Texel>(&self, j: isize, lo: i32, hi: i32, fetch: &impl Fn(isize, isize) -> T) -> (T, f32) {
         let (mut sum, mut wsum) = (T::default(), 0.0);
-        for first in (lo..=hi).step_by(LANES) {
+        // Exclusive ranges: their iterators compile to plainer loops than inclusive ones.
+        for first in (lo..hi + 1).step_by(LANES) {
             let k = self.indices(first, j);
-            for (i, &k) in (first..=hi).zip(&k) {
+            for (i, &k) in (first..hi + 1).zip(&k) {
                 let weight = self.table[k as usize];
                 sum = sum + fetch(i as isize, j) * weight;
                 wsum += weight;
@@ -280,9 +281,9 @@ impl Ellipse {
     #[inline]
     fn sum<T: Texel>(&self, fetch: impl Fn(isize, isize) -> T) -> (T, f32) {
         let (mut sum, mut wsum) = (T::default(), 0.0);
-        for first in (self.j0..=self.j1).step_by(LANES) {
+        for first in (self.j0..self.j1 + 1).step_by(LANES) {
             let (lo, hi) = self.spans(first);
-            for ((j, lo), hi) in (first..=self.j1).zip(lo).zip(hi) {
+            for ((j, lo), hi) in (first..self.j1 + 1).zip(lo).zip(hi) {
                 // A sum per row: the rows' dependency chains overlap.
                 let (row_sum, row_wsum) = self.sum_row(j, lo, hi, &fetch);
                 sum = sum + row_sum;
