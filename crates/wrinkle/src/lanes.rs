@@ -9,6 +9,12 @@ pub use wide::{f32x8 as F8, i32x8 as I8, CmpEq, CmpGe, CmpGt, CmpLe, CmpLt};
 /// The number of samples in a packet.
 pub const LANES: usize = 8;
 
+/// 0, 1, .. 7: each lane's own index.
+#[inline]
+pub fn lane_index() -> F8 {
+    F8::new(std::array::from_fn(|l| l as f32))
+}
+
 /// Eight 3-vectors, one per lane.
 #[derive(Clone, Copy, Debug)]
 pub struct V3 {

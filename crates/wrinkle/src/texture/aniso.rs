@@ -10,7 +10,7 @@ use super::texel::TexelSource;
 use super::trilinear8::{bilinear8_on, OneLevel};
 use super::wrap::Wrap;
 use super::Footprint;
-use crate::lanes::{CmpLt, F8, LANES};
+use crate::lanes::{lane_index, CmpLt, F8, LANES};
 use glam::{Vec2, Vec4};
 
 /// Where one lookup's probes go: `count` trilinear probes on `level`, centred on the lookup and spread
@@ -119,10 +119,9 @@ fn probes_on_lanes(levels: &[Rgba8Plane], s: f32, t: f32, probes: &Probes) -> Ve
     let frac = level - l0 as f32;
     let (fine, coarse) = (OneLevel(&levels[l0]), OneLevel(&levels[(l0 + 1).min(last)]));
     let (s, t) = (F8::splat(s), F8::splat(t));
-    let first = F8::new(std::array::from_fn(|k| k as f32));
     let mut sum = [F8::ZERO; 4];
     for chunk in (0..probes.count).step_by(LANES) {
-        let k = first + F8::splat(chunk as f32);
+        let k = lane_index() + F8::splat(chunk as f32);
         let off = (k + F8::splat(0.5)) * F8::splat(1.0 / probes.count as f32) - F8::splat(0.5);
         let (ps, pt) = (s + off * F8::splat(probes.axis.x), t + off * F8::splat(probes.axis.y));
         let (ps, pt) = (ps - ps.floor(), pt - pt.floor());

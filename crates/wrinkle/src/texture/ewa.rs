@@ -19,7 +19,7 @@
 use super::reconstruct::{bilinear, Addressing};
 use super::texel::{Texel, TexelSource};
 use super::Footprint;
-use crate::lanes::{F8, LANES};
+use crate::lanes::{lane_index, F8, LANES};
 use glam::Vec2;
 use std::sync::OnceLock;
 use wide::i32x8 as I8;
@@ -123,12 +123,6 @@ fn weights() -> &'static [f32; TABLE_SIZE + 1] {
             }
         })
     })
-}
-
-/// 0, 1, .. 7: the offsets of the eight lanes.
-#[inline]
-fn lane_index() -> F8 {
-    F8::new(std::array::from_fn(|l| l as f32))
 }
 
 /// EWA over a MIP pyramid (`levels[0]` the full texture) at (s, t) for footprint `fp`.
