@@ -98,7 +98,8 @@ pub fn sample8_rgba8_repeating(
         let probes = Probes::of_footprint(&fp[l], w, h, max_aniso);
         let l0 = (probes.level.clamp(0.0, (levels.len() - 1) as f32)) as usize;
         for level in &levels[l0..(l0 + 2).min(levels.len())] {
-            level.prefetch(s[l], t[l]);
+            let (w, h) = (level.width(), level.height());
+            level.prefetch(((s[l] * w as f32) as usize).min(w - 1), ((t[l] * h as f32) as usize).min(h - 1));
         }
         probes
     });

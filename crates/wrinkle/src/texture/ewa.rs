@@ -271,12 +271,19 @@ impl Ellipse {
         (sum, wsum)
     }
 
-    /// The weighted sum and the sum of weights over the ellipse, `fetch(i, j)` reading texel (i, j).
+    /// The weighted sum and the sum of weights over the ellipse, `fetch(i, j)` reading texel (i, j) and
+    /// `prefetch(i, j)` asking for it ahead.
     #[inline]
-    fn sum<T: Texel>(&self, fetch: impl Fn(isize, isize) -> T) -> (T, f32) {
+    fn sum<T: Texel>(&self, fetch: impl Fn(isize, isize) -> T, prefetch: impl Fn(i32, isize)) -> (T, f32) {
         let (mut sum, mut wsum) = (T::default(), 0.0);
         for first in (self.j0..self.j1 + 1).step_by(LANES) {
             let (lo, hi) = self.spans(first);
+            // Both ends of the next eight rows first, so that their cache misses overlap (an anisotropic
+            // ellipse's rows are a few texels long: one or two cache lines each).
+            for ((j, &lo), &hi) in (first..self.j1 + 1).zip(&lo).zip(&hi).filter(|(_, &hi)| hi >= 0) {
+                prefetch(lo, j);
+                prefetch(hi, j);
+            }
             for ((j, lo), hi) in (first..self.j1 + 1).zip(lo).zip(hi) {
                 // A sum per row: the rows' dependency chains overlap.
                 let (row_sum, row_wsum) = self.sum_row(j, lo, hi, &fetch);
@@ -289,12 +296,12 @@ impl Ellipse {
 
     /// The weighted sum and the sum of weights, the whole ellipse on the texture.
     fn sum_inside<S: TexelSource>(&self, src: &S) -> (S::Texel, f32) {
-        self.sum(|i, j| src.texel(i as usize, j as usize))
+        self.sum(|i, j| src.texel(i as usize, j as usize), |i, j| src.prefetch(i.max(0) as usize, j as usize))
     }
 
     /// The same where the ellipse crosses an edge: every texel through the wrap modes.
     fn sum_wrapped<S: TexelSource>(&self, src: &S, addr: &Addressing<S::Texel>) -> (S::Texel, f32) {
-        self.sum(|i, j| addr.fetch(src, i, j))
+        self.sum(|i, j| addr.fetch(src, i, j), |_, _| {})
     }
 }
 

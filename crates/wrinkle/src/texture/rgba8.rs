@@ -137,21 +137,6 @@ impl Rgba8Plane {
         u32::from_le_bytes(self.texels[index])
     }
 
-    /// Asks the cache for the block of the texel at (s, t) in [0, 1] (a hint: nothing is read or checked).
-    #[inline]
-    pub fn prefetch(&self, s: f32, t: f32) {
-        let i = ((s * self.width as f32) as usize).min(self.width - 1);
-        let j = ((t * self.height as f32) as usize).min(self.height - 1);
-        let texel = &self.texels[block_index(i, j, self.blocks_per_row)];
-        #[cfg(all(target_arch = "x86_64", target_feature = "sse"))]
-        // SAFETY: a prefetch never faults, and the pointer is to a texel of this plane.
-        unsafe {
-            std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(texel.as_ptr().cast())
-        };
-        #[cfg(not(all(target_arch = "x86_64", target_feature = "sse")))]
-        let _ = texel;
-    }
-
     /// The texels at storage indices `index` (see `row_part8`), decoded to channel lanes. An index
     /// outside the plane reads its nearest end instead (never memory outside).
     #[inline]
@@ -224,6 +209,17 @@ impl TexelSource for Rgba8Plane {
     #[inline]
     fn texel(&self, i: usize, j: usize) -> Vec4 {
         self.decode_one(self.texels[block_index(i, j, self.blocks_per_row)])
+    }
+    #[inline]
+    fn prefetch(&self, i: usize, j: usize) {
+        let texel = &self.texels[block_index(i, j, self.blocks_per_row)];
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: a prefetch never faults, and the pointer is to a texel of this plane.
+        unsafe {
+            std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(texel.as_ptr().cast())
+        };
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = texel;
     }
     #[inline]
     fn quad(&self, i: [usize; 2], j: [usize; 2]) -> [Vec4; 4] {

@@ -59,6 +59,11 @@ pub trait TexelSource: Sync {
     fn height(&self) -> usize;
     fn texel(&self, i: usize, j: usize) -> Self::Texel;
 
+    /// A hint that texel (i, j) will be read soon: sources in memory larger than the caches start loading
+    /// it, so that a filter reading many texels has their misses overlap. Nothing by default.
+    #[inline]
+    fn prefetch(&self, _i: usize, _j: usize) {}
+
     /// The four texels of a bilinear footprint: (i[0], j[0]), (i[1], j[0]), (i[0], j[1]), (i[1], j[1]).
     /// Sources whose index is costly to compute share its parts between the four.
     #[inline]
