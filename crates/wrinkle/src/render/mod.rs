@@ -141,7 +141,7 @@ pub fn render_with_progress(
         bump_enabled: options.bump,
         bump_filter: options.bump_filter,
     };
-    let mut frame = Frame::new(w, h, options.aovs);
+    let mut frame = Frame::new(w, h, options.aovs, cam.background);
     let band_len = tile_size * w;
     let job = TileJob {
         bins: &bins,
@@ -306,12 +306,7 @@ impl TileJob<'_> {
     ) {
         let TileScratch { vis, shaded } = scratch;
         if self.bins.bins[tile.1 * self.bins.tiles_x + tile.0].is_empty() && self.volumes.is_empty() {
-            // Nothing here: the background, and the AOVs keep their NaN.
-            let (x0, tw) = (tile.0 * self.bins.tile_size, self.bins.tile_size.min(w - tile.0 * self.bins.tile_size));
-            let rows = band.len() / w;
-            for y in 0..rows {
-                band[y * w + x0..y * w + x0 + tw].fill(self.background.to_array());
-            }
+            // Nothing here: the frame already holds the background, and the AOVs keep their NaN.
             return;
         }
         vis.render_tile(self.bins, tile, (w, h), self.triangles, self.pattern);
