@@ -5,6 +5,7 @@ use super::camera::Camera;
 use super::clip::{clip_planes, clip_polygon, inside_all, ClipVertex};
 use super::SUBPIXEL;
 use glam::{Affine3A, Vec2, Vec3, Vec4};
+use rayon::prelude::*;
 
 /// a(x, y) = a0 + ax (x - x0) + ay (y - y0): an attribute that is affine in screen space.
 #[derive(Clone, Copy, Debug, Default)]
@@ -108,7 +109,7 @@ impl<'a> TriangleSetup<'a> {
         TriangleSetup { camera, planes: clip_planes(camera), polygon: Vec::with_capacity(9), triangles: Vec::new() }
     }
 
-    /// Carries a mesh's object-space vertices into camera space and onto the screen.
+    /// Carries a mesh's object-space vertices into camera space and onto the screen, on all threads.
     pub fn project_vertices(
         &self,
         positions: &[Vec3],
@@ -116,7 +117,7 @@ impl<'a> TriangleSetup<'a> {
         object_to_camera: &Affine3A,
     ) -> Vec<ProjectedVertex> {
         positions
-            .iter()
+            .par_iter()
             .zip(uvs)
             .map(|(&p, &uv)| self.project(ClipVertex { pos: object_to_camera.transform_point3(p), uv }))
             .collect()
