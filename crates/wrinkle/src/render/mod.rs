@@ -398,28 +398,21 @@ impl TileJob<'_> {
     /// Interpolates, refines and shades the packet's samples, and empties it.
     fn shade_packet(&self, vis: &mut VisBuffer, packet: &mut Packet, shaded: &mut [Shaded]) {
         let inst = &self.instances[packet.surface as usize];
-        let mut footprints = [Footprint::default(); LANES];
-        let (mut u, mut v, mut sx, mut sy) = ([0.0; LANES], [0.0; LANES], [0.0; LANES], [0.0; LANES]);
-        for i in 0..LANES {
-            // Unused lanes repeat the first sample; their results are dropped.
-            let j = if i < packet.len { i } else { 0 };
-            let (k, screen) = (packet.samples[j], packet.screen[j]);
-            let at = vis.resolve(k, &self.triangles[packet.triangles[j] as usize], inst.object, screen);
-            // Each of the spp stratified samples stands for its own 1/spp of the pixel: the texture filters
-            // integrate over that cell, not the whole pixel again.
-            let [dudx, dvdx, dudy, dvdy] = at.duv.map(|d| d * self.sample_cell);
-            footprints[i] = Footprint { dudx, dvdx, dudy, dvdy };
-            (u[i], v[i], sx[i], sy[i]) = (at.uv.x, at.uv.y, screen.x, screen.y);
-        }
+        // Unused lanes repeat the first sample; their results are dropped.
+        let used = |i: usize| if i < packet.len { i } else { 0 };
+        let samples = std::array::from_fn(|i| packet.samples[used(i)]);
+        let tris = std::array::from_fn(|i| &self.triangles[packet.triangles[used(i)] as usize]);
+        let screen = |c: fn(Vec2) -> f32| F8::new(std::array::from_fn(|i| c(packet.screen[used(i)])));
+        let (sx, sy) = (screen(|p| p.x), screen(|p| p.y));
+        let at = vis.resolve8(&samples, &tris, inst.object, sx, sy);
+        // Each of the spp stratified samples stands for its own 1/spp of the pixel: the texture filters
+        // integrate over that cell, not the whole pixel again.
+        let [dudx, dvdx, dudy, dvdy] = at.duv.map(|d| (d * F8::splat(self.sample_cell)).to_array());
+        let footprints: [Footprint; LANES] =
+            std::array::from_fn(|i| Footprint { dudx: dudx[i], dvdx: dvdx[i], dudy: dudy[i], dvdy: dvdy[i] });
         let max_step = self.max_steps[packet.surface as usize];
-        let (uv, surface_frame) = refine_uv8(
-            self.camera,
-            &inst.surface,
-            &inst.object_to_camera,
-            (F8::new(u), F8::new(v)),
-            (F8::new(sx), F8::new(sy)),
-            max_step,
-        );
+        let (uv, surface_frame) =
+            refine_uv8(self.camera, &inst.surface, &inst.object_to_camera, at.uv, (sx, sy), max_step);
         let result = self.shade.shade8(inst, uv, &surface_frame, &footprints);
         for i in 0..packet.len {
             let uv = Vec2::new(uv.0.as_array_ref()[i], uv.1.as_array_ref()[i]);
