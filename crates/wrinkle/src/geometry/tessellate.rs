@@ -6,7 +6,6 @@
 
 use super::Surface;
 use glam::{Vec2, Vec3};
-use rayon::prelude::*;
 
 /// Triangles over one surface, in object space; each triangle runs counter-clockwise in (u,v),
 /// so it faces the same way as N = Pu x Pv.
@@ -26,22 +25,18 @@ pub const MAX_SEGMENTS: usize = 1024;
 pub fn grid(surface: &Surface, nu: usize, nv: usize) -> Mesh {
     let (wrap_u, wrap_v) = surface.wraps();
     let (nu, nv) = (nu.max(1), nv.max(1));
+    let mut mesh = Mesh { segments: (nu, nv), ..Mesh::default() };
     let columns = nu + 1;
-    let uvs: Vec<Vec2> = (0..columns * (nv + 1))
-        .map(|k| Vec2::new((k % columns) as f32 / nu as f32, (k / columns) as f32 / nv as f32))
-        .collect();
-    // The vertices are independent, so all threads compute them (the position is most of a frame's serial
-    // set-up). A seam takes its position at the other side's (u,v), so both sides meet exactly.
-    let positions = (0..uvs.len())
-        .into_par_iter()
-        .map(|k| {
-            let (i, j) = (k % columns, k / columns);
+    for j in 0..=nv {
+        for i in 0..=nu {
+            let uv = Vec2::new(i as f32 / nu as f32, j as f32 / nv as f32);
+            // A seam reuses the other side's position so both sides meet exactly.
             let (si, sj) = (if wrap_u && i == nu { 0 } else { i }, if wrap_v && j == nv { 0 } else { j });
-            let uv = uvs[sj * columns + si];
-            surface.position(uv.x, uv.y)
-        })
-        .collect();
-    let mut mesh = Mesh { segments: (nu, nv), positions, uvs, triangles: Vec::with_capacity(2 * nu * nv) };
+            let p = if (si, sj) == (i, j) { surface.position(uv.x, uv.y) } else { mesh.positions[sj * columns + si] };
+            mesh.positions.push(p);
+            mesh.uvs.push(uv);
+        }
+    }
     for j in 0..nv {
         for i in 0..nu {
             let a = (j * columns + i) as u32;

@@ -6,7 +6,6 @@ use super::clip::{clip_planes, clip_polygon, inside_all, ClipVertex};
 use super::SUBPIXEL;
 use crate::lanes::{F8, LANES};
 use glam::{Affine3A, Vec2, Vec3, Vec4};
-use rayon::prelude::*;
 
 /// a(x, y) = a0 + ax (x - x0) + ay (y - y0): an attribute that is affine in screen space.
 #[derive(Clone, Copy, Debug, Default)]
@@ -140,7 +139,7 @@ impl<'a> TriangleSetup<'a> {
         TriangleSetup { camera, planes: clip_planes(camera), polygon: Vec::with_capacity(9), triangles: Vec::new() }
     }
 
-    /// Carries a mesh's object-space vertices into camera space and onto the screen, on all threads.
+    /// Carries a mesh's object-space vertices into camera space and onto the screen.
     pub fn project_vertices(
         &self,
         positions: &[Vec3],
@@ -148,7 +147,7 @@ impl<'a> TriangleSetup<'a> {
         object_to_camera: &Affine3A,
     ) -> Vec<ProjectedVertex> {
         positions
-            .par_iter()
+            .iter()
             .zip(uvs)
             .map(|(&p, &uv)| self.project(ClipVertex { pos: object_to_camera.transform_point3(p), uv }))
             .collect()

@@ -208,8 +208,7 @@ fn instances(scene: &Scene, camera: &Camera, turntable_degrees: f32) -> Vec<Surf
 
 /// Clips, projects and sets up every triangle, in parallel over chunks, keeping submission order.
 fn setup_triangles(camera: &Camera, instances: &[SurfaceInstance], meshes: &[Mesh]) -> Vec<ScreenTriangle> {
-    // Small enough that the threads share even one object's mesh evenly (the canonical sphere's ~21,000).
-    const CHUNK: usize = 2048;
+    const CHUNK: usize = 8192;
     let projector = TriangleSetup::new(camera);
     let projected: Vec<Vec<ProjectedVertex>> = instances
         .par_iter()
