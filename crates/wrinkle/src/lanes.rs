@@ -147,7 +147,8 @@ mod tests {
 
     #[test]
     fn lanes_agree_with_glam() {
-        let a: [Vec3; LANES] = std::array::from_fn(|i| Vec3::new(i as f32 - 3.0, 0.5 * i as f32, 2.0 - i as f32 * 0.25));
+        let a: [Vec3; LANES] =
+            std::array::from_fn(|i| Vec3::new(i as f32 - 3.0, 0.5 * i as f32, 2.0 - i as f32 * 0.25));
         let b: [Vec3; LANES] = std::array::from_fn(|i| Vec3::new(1.0, -(i as f32), 0.3 * i as f32));
         let (va, vb) = (V3::from_lanes(&a), V3::from_lanes(&b));
         let m = Affine3A::from_scale_rotation_translation(
@@ -155,8 +156,7 @@ mod tests {
             glam::Quat::from_rotation_y(0.7),
             Vec3::new(0.1, 0.2, 0.3),
         );
-        let (dot, cross, unit, tp) =
-            (va.dot(vb), va.cross(vb), va.normalize_or_zero(), V3::transform_point(&m, va));
+        let (dot, cross, unit, tp) = (va.dot(vb), va.cross(vb), va.normalize_or_zero(), V3::transform_point(&m, va));
         for i in 0..LANES {
             assert!((dot.as_array_ref()[i] - a[i].dot(b[i])).abs() < 1e-5);
             assert!((cross.lane(i) - a[i].cross(b[i])).length() < 1e-5);

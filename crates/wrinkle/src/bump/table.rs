@@ -14,7 +14,7 @@
 //! function shifted by half a step, which we do not copy so that nearest and bilinear agree at texel centres.
 
 use crate::image::GreyImage;
-use crate::lanes::{CmpGe, F8, LANES};
+use crate::lanes::{CmpEq, CmpGe, CmpGt, F8, I8, LANES};
 use crate::texture::filter::{FilterOptions, Filterable};
 use crate::texture::mip::{MipFilter, Resample};
 use crate::texture::texel::{Plane, TexelSource};
@@ -196,22 +196,14 @@ impl Gradients {
         let (w, h) = (self.0.width, self.0.height);
         let (cols, fx) = neighbourhood8(s, w);
         let (rows, fy) = neighbourhood8(t, h);
-        // The twelve texels of the 4x4 neighbourhood that the three lookups read (the corners are unused):
-        // rows j0 and j1 across im, i0, i1, i2; rows jm and j2 at i0 and i1.
-        let mut texels = [[0.0f32; LANES]; 12];
-        for i in 0..LANES {
-            let (c, r) = (cols[i].map(|c| c as usize), rows[i].map(|r| r as usize));
-            let row = |j: usize| &self.0.texels[r[j] * w..][..w];
-            let (rm, r0, r1, r2) = (row(0), row(1), row(2), row(3));
-            let lane = [
-                r0[c[0]], r0[c[1]], r0[c[2]], r0[c[3]], r1[c[0]], r1[c[1]], r1[c[2]], r1[c[3]], rm[c[1]], rm[c[2]],
-                r2[c[1]], r2[c[2]],
-            ];
-            for k in 0..12 {
-                texels[k][i] = lane[k];
-            }
-        }
-        let [r0m, r00, r01, r02, r1m, r10, r11, r12, rm0, rm1, r20, r21] = texels.map(F8::new);
+        let row_starts = rows.map(|r| r * I8::splat(w as i32));
+        // The texels of row `r` (0..4: jm, j0, j1, j2) at column `c` (0..4: im, i0, i1, i2), per lane.
+        let texel =
+            |r: usize, c: usize| F8::new((row_starts[r] + cols[c]).to_array().map(|k| self.0.texels[k as usize]));
+        // The twelve texels of the 4x4 neighbourhood that the three lookups read (the corners are unused).
+        let (r0m, r00, r01, r02) = (texel(1, 0), texel(1, 1), texel(1, 2), texel(1, 3));
+        let (r1m, r10, r11, r12) = (texel(2, 0), texel(2, 1), texel(2, 2), texel(2, 3));
+        let (rm0, rm1, r20, r21) = (texel(0, 1), texel(0, 2), texel(3, 1), texel(3, 2));
         let lerp2 = |a: F8, b: F8, c: F8, d: F8| {
             let bottom = a + fx * (b - a);
             bottom + fy * (c + fx * (d - c) - bottom)
@@ -226,21 +218,20 @@ impl Gradients {
 /// On eight lanes: the bilinear taps of `bilinear_taps` (i0, i1 and the weight of i1) with their outer
 /// neighbours, as [i0 - 1, i0, i1, i1 + 1] wrapped into the table.
 #[inline]
-fn neighbourhood8(s: F8, n: usize) -> ([[u32; 4]; LANES], F8) {
+fn neighbourhood8(s: F8, n: usize) -> ([I8; 4], F8) {
     let wrapped = s - s.floor();
     // s just below an integer can round to exactly 1.0: that is 0.
     let wrapped = wrapped.cmp_ge(F8::ONE).blend(F8::ZERO, wrapped);
     let x = wrapped * F8::splat(n as f32) + F8::splat(0.5);
     let floor = x.floor();
-    let (k, n) = (floor.as_array_ref(), n as u32);
-    let taps = std::array::from_fn(|i| {
-        // k is in [0, n]: the taps are k - 1 and k, periodic.
-        let k = k[i] as u32;
-        let i0 = if k == 0 { n - 1 } else { (k - 1).min(n - 1) };
-        let i1 = if k >= n { 0 } else { k };
-        [if i0 == 0 { n - 1 } else { i0 - 1 }, i0, i1, if i1 + 1 == n { 0 } else { i1 + 1 }]
-    });
-    (taps, x - floor)
+    // k is in [0, n] (a NaN gives 0): the taps are k - 1 and k, periodic.
+    let k = floor.trunc_int();
+    let (zero, one, last) = (I8::splat(0), I8::splat(1), I8::splat(n as i32 - 1));
+    let i0 = k.cmp_eq(zero).blend(last, (k - one).min(last));
+    let i1 = k.cmp_gt(last).blend(zero, k);
+    let before = i0.cmp_eq(zero).blend(last, i0 - one);
+    let after = i1.cmp_eq(last).blend(zero, i1 + one);
+    ([before, i0, i1, after], x - floor)
 }
 
 #[cfg(test)]
@@ -351,7 +342,10 @@ mod tests {
                     let got = [0, 1, 2].map(|k| lanes[k].as_array_ref()[i]);
                     let want = [one.f, one.fs, one.ft];
                     for k in 0..3 {
-                        assert!((got[k] - want[k]).abs() <= 1e-4 * (1.0 + want[k].abs()), "{interp:?} lane {i}: {got:?} vs {want:?}");
+                        assert!(
+                            (got[k] - want[k]).abs() <= 1e-4 * (1.0 + want[k].abs()),
+                            "{interp:?} lane {i}: {got:?} vs {want:?}"
+                        );
                     }
                 }
             }

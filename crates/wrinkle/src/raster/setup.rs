@@ -4,6 +4,7 @@
 use super::camera::Camera;
 use super::clip::{clip_planes, clip_polygon, inside_all, ClipVertex};
 use super::SUBPIXEL;
+use crate::lanes::{F8, LANES};
 use glam::{Affine3A, Vec2, Vec3, Vec4};
 
 /// a(x, y) = a0 + ax (x - x0) + ay (y - y0): an attribute that is affine in screen space.
@@ -21,14 +22,34 @@ impl Plane {
     }
 }
 
-/// A triangle's attributes at one screen position.
+/// The attributes of eight samples, each on its own triangle.
 #[derive(Clone, Copy, Debug)]
-pub struct Interpolated {
+pub struct Interpolated8 {
     /// Perspective-correct barycentrics of vertices 1 and 2.
-    pub bary: [f32; 2],
-    pub uv: Vec2,
+    pub bary: [F8; 2],
+    pub uv: (F8, F8),
     /// du/dx, dv/dx, du/dy, dv/dy.
-    pub duv: [f32; 4],
+    pub duv: [F8; 4],
+}
+
+/// A `Plane` on eight lanes.
+struct Plane8 {
+    a0: F8,
+    ax: F8,
+    ay: F8,
+}
+
+impl Plane8 {
+    /// Lane i holds the plane `f(tris[i])`.
+    #[inline]
+    fn gather(tris: &[&ScreenTriangle; LANES], f: impl Fn(&ScreenTriangle) -> &Plane) -> Plane8 {
+        Plane8 { a0: gather8(tris, |t| f(t).a0), ax: gather8(tris, |t| f(t).ax), ay: gather8(tris, |t| f(t).ay) }
+    }
+
+    #[inline]
+    fn at(&self, dx: F8, dy: F8) -> F8 {
+        self.a0 + self.ax * dx + self.ay * dy
+    }
 }
 
 /// A triangle ready to rasterize and to interpolate.
@@ -53,24 +74,34 @@ pub struct ScreenTriangle {
     pub surface: u32,
 }
 
-impl ScreenTriangle {
-    /// Everything interpolated at a screen position: perspective-correct barycentrics, (u,v) and its
-    /// screen derivatives, from one evaluation of the planes and one division.
-    #[inline]
-    pub fn interpolate(&self, p: Vec2) -> Interpolated {
-        let (dx, dy) = (p.x - self.origin.x, p.y - self.origin.y);
-        let inv = 1.0 / self.s.at(dx, dy);
-        let (b1, b2) = (self.b1.at(dx, dy) * inv, self.b2.at(dx, dy) * inv);
-        let (e1, e2) = (self.uv[1] - self.uv[0], self.uv[2] - self.uv[0]);
-        // d(B/S) = (dB - b dS) / S
-        let db1x = (self.b1.ax - b1 * self.s.ax) * inv;
-        let db1y = (self.b1.ay - b1 * self.s.ay) * inv;
-        let db2x = (self.b2.ax - b2 * self.s.ax) * inv;
-        let db2y = (self.b2.ay - b2 * self.s.ay) * inv;
-        let ddx = db1x * e1 + db2x * e2;
-        let ddy = db1y * e1 + db2y * e2;
-        Interpolated { bary: [b1, b2], uv: self.uv[0] + b1 * e1 + b2 * e2, duv: [ddx.x, ddx.y, ddy.x, ddy.y] }
-    }
+/// Everything interpolated at eight screen positions (x, y), lane i on triangle `tris[i]`: perspective-correct
+/// barycentrics, (u,v) and its screen derivatives, from one evaluation of the planes and one division. The
+/// triangles' numbers are gathered into lanes; the arithmetic runs on all lanes at once.
+#[inline]
+pub fn interpolate8(tris: &[&ScreenTriangle; LANES], x: F8, y: F8) -> Interpolated8 {
+    let plane = |f: fn(&ScreenTriangle) -> &Plane| Plane8::gather(tris, f);
+    let (s, b1_plane, b2_plane) = (plane(|t| &t.s), plane(|t| &t.b1), plane(|t| &t.b2));
+    let (dx, dy) = (x - gather8(tris, |t| t.origin.x), y - gather8(tris, |t| t.origin.y));
+    let inv = F8::ONE / s.at(dx, dy);
+    let (b1, b2) = (b1_plane.at(dx, dy) * inv, b2_plane.at(dx, dy) * inv);
+    let vertex_uv = |k: usize| (gather8(tris, |t| t.uv[k].x), gather8(tris, |t| t.uv[k].y));
+    let (uv0, uv1, uv2) = (vertex_uv(0), vertex_uv(1), vertex_uv(2));
+    let (e1, e2) = ((uv1.0 - uv0.0, uv1.1 - uv0.1), (uv2.0 - uv0.0, uv2.1 - uv0.1));
+    // d(B/S) = (dB - b dS) / S
+    let db1x = (b1_plane.ax - b1 * s.ax) * inv;
+    let db1y = (b1_plane.ay - b1 * s.ay) * inv;
+    let db2x = (b2_plane.ax - b2 * s.ax) * inv;
+    let db2y = (b2_plane.ay - b2 * s.ay) * inv;
+    let along = |d1: F8, d2: F8| (d1 * e1.0 + d2 * e2.0, d1 * e1.1 + d2 * e2.1);
+    let (ddx, ddy) = (along(db1x, db2x), along(db1y, db2y));
+    let uv = (uv0.0 + b1 * e1.0 + b2 * e2.0, uv0.1 + b1 * e1.1 + b2 * e2.1);
+    Interpolated8 { bary: [b1, b2], uv, duv: [ddx.0, ddx.1, ddy.0, ddy.1] }
+}
+
+/// One number of each lane's triangle, as lanes.
+#[inline]
+fn gather8(tris: &[&ScreenTriangle; LANES], f: impl Fn(&ScreenTriangle) -> f32) -> F8 {
+    F8::new(std::array::from_fn(|i| f(tris[i])))
 }
 
 /// Which triangles the setup drops by the way they face.

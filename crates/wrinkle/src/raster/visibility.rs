@@ -3,8 +3,9 @@
 //! parallel; triangles are binned to the tiles their bounding boxes touch.
 
 use super::samples::SamplePattern;
-use super::setup::{Interpolated, ScreenTriangle};
+use super::setup::{interpolate8, Interpolated8, ScreenTriangle};
 use super::SUBPIXEL;
+use crate::lanes::{F8, LANES};
 use glam::Vec2;
 
 /// No triangle covers this sample.
@@ -109,12 +110,23 @@ impl VisBuffer {
         });
     }
 
-    /// Interpolates sample `k` (at `screen`) on its triangle and records its barycentrics and object.
+    /// Interpolates eight samples (lane i: sample `k[i]` on `tris[i]`, at screen position (x, y)) and records
+    /// their barycentrics and object.
     #[inline]
-    pub fn resolve(&mut self, k: usize, tri: &ScreenTriangle, object: u32, screen: Vec2) -> Interpolated {
-        let at = tri.interpolate(screen);
-        self.bary[k] = at.bary;
-        self.object[k] = object;
+    pub fn resolve8(
+        &mut self,
+        k: &[usize; LANES],
+        tris: &[&ScreenTriangle; LANES],
+        object: u32,
+        x: F8,
+        y: F8,
+    ) -> Interpolated8 {
+        let at = interpolate8(tris, x, y);
+        let (b1, b2) = (at.bary[0].as_array_ref(), at.bary[1].as_array_ref());
+        for (i, &k) in k.iter().enumerate() {
+            self.bary[k] = [b1[i], b2[i]];
+            self.object[k] = object;
+        }
         at
     }
 

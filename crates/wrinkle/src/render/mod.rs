@@ -7,8 +7,8 @@ pub use frame::{Aovs, Frame, Stats};
 
 use crate::geometry::tessellate::{grid, segments_for, Mesh};
 use crate::lanes::{F8, LANES};
-use crate::raster::refine::refine_uv8;
 use crate::procedural::hypertexture::{Hypertexture, VolumeLight};
+use crate::raster::refine::refine_uv8;
 use crate::raster::setup::ProjectedVertex;
 use crate::raster::visibility::EMPTY;
 use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
@@ -19,6 +19,7 @@ use crate::{Error, Result};
 use glam::{Affine3A, Mat3, Quat, Vec2, Vec3};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
 use std::time::Instant;
 
 /// The largest image side accepted.
@@ -141,8 +142,7 @@ pub fn render_with_progress(
         bump_enabled: options.bump,
         bump_filter: options.bump_filter,
     };
-    let mut frame = Frame::new(w, h, options.aovs);
-    let band_len = tile_size * w;
+    let mut frame = Frame::new(w, h, options.aovs, cam.background);
     let job = TileJob {
         bins: &bins,
         camera: &camera,
@@ -157,23 +157,7 @@ pub fn render_with_progress(
         volumes: &scene.volumes,
         volume_lights: &volume_lights(&scene.lights),
     };
-    let (bands_done, bands) = (AtomicUsize::new(0), bins.tiles_y);
-    let band_aovs: Vec<frame::AovBand> = frame
-        .color
-        .par_chunks_mut(band_len)
-        .enumerate()
-        .map_init(
-            || TileScratch { vis: VisBuffer::new(tile_size, options.spp), shaded: Vec::new() },
-            |scratch, (ty, color)| {
-                let mut aov = frame::AovBand::new(options.aovs, color.len());
-                for tx in 0..bins.tiles_x {
-                    job.tile(scratch, (tx, ty), color, &mut aov, w, h);
-                }
-                progress(bands_done.fetch_add(1, Ordering::Relaxed) + 1, bands);
-                aov
-            },
-        )
-        .collect();
+    let band_aovs = job.render_bands(&mut frame.color, options.spp, progress);
     frame.gather_aovs(band_aovs);
     stats.raster_shade_ms = ms(t);
     frame.stats = stats;
@@ -294,6 +278,50 @@ impl TileJob<'_> {
         self.volumes.iter().fold(behind, |c, v| v.composite(origin, dir, depth, c, self.volume_lights))
     }
 
+    /// Renders every band of tiles into the frame's `color`, and returns the bands' AOVs in band order. The
+    /// workers take bands from a queue, the costliest (most binned triangles) first: the cheap bands above
+    /// and below the objects come last and even out the threads' finishing times, where rayon's halving of
+    /// the band range could leave one thread alone on a costly middle band at the end of the frame.
+    fn render_bands(
+        &self,
+        color: &mut [[f32; 3]],
+        spp: usize,
+        progress: &(dyn Fn(usize, usize) + Sync),
+    ) -> Vec<frame::AovBand> {
+        let (w, h) = (self.camera.width as usize, self.camera.height as usize);
+        let tile_size = self.bins.tile_size;
+        let mut queue: Vec<(usize, &mut [[f32; 3]])> = color.chunks_mut(tile_size * w).enumerate().collect();
+        queue.sort_by_key(|&(ty, _)| self.band_cost(ty));
+        let queue = Mutex::new(queue);
+        // The guard is dropped as soon as the band is taken, not held while it renders.
+        let next_band = || queue.lock().expect("a render worker panicked").pop();
+        let (bands_done, bands) = (AtomicUsize::new(0), self.bins.tiles_y);
+        let mut aovs: Vec<(usize, frame::AovBand)> = (0..rayon::current_num_threads())
+            .into_par_iter()
+            .flat_map_iter(|_| {
+                let mut scratch = TileScratch { vis: VisBuffer::new(tile_size, spp), shaded: Vec::new() };
+                let mut finished = Vec::new();
+                while let Some((ty, color)) = next_band() {
+                    let mut aov = frame::AovBand::new(self.aovs, color.len());
+                    for tx in 0..self.bins.tiles_x {
+                        self.tile(&mut scratch, (tx, ty), color, &mut aov, w, h);
+                    }
+                    progress(bands_done.fetch_add(1, Ordering::Relaxed) + 1, bands);
+                    finished.push((ty, aov));
+                }
+                finished
+            })
+            .collect();
+        aovs.sort_by_key(|&(ty, _)| ty);
+        aovs.into_iter().map(|(_, aov)| aov).collect()
+    }
+
+    /// The triangles binned to the tiles of band `ty`: the band's share of the frame's work, roughly.
+    fn band_cost(&self, ty: usize) -> usize {
+        let tiles_x = self.bins.tiles_x;
+        self.bins.bins[ty * tiles_x..(ty + 1) * tiles_x].iter().map(Vec::len).sum()
+    }
+
     /// Rasterizes, shades and resolves one tile into its band of the frame.
     fn tile(
         &self,
@@ -306,12 +334,7 @@ impl TileJob<'_> {
     ) {
         let TileScratch { vis, shaded } = scratch;
         if self.bins.bins[tile.1 * self.bins.tiles_x + tile.0].is_empty() && self.volumes.is_empty() {
-            // Nothing here: the background, and the AOVs keep their NaN.
-            let (x0, tw) = (tile.0 * self.bins.tile_size, self.bins.tile_size.min(w - tile.0 * self.bins.tile_size));
-            let rows = band.len() / w;
-            for y in 0..rows {
-                band[y * w + x0..y * w + x0 + tw].fill(self.background.to_array());
-            }
+            // Nothing here: the frame already holds the background, and the AOVs keep their NaN.
             return;
         }
         vis.render_tile(self.bins, tile, (w, h), self.triangles, self.pattern);
@@ -374,28 +397,21 @@ impl TileJob<'_> {
     /// Interpolates, refines and shades the packet's samples, and empties it.
     fn shade_packet(&self, vis: &mut VisBuffer, packet: &mut Packet, shaded: &mut [Shaded]) {
         let inst = &self.instances[packet.surface as usize];
-        let mut footprints = [Footprint::default(); LANES];
-        let (mut u, mut v, mut sx, mut sy) = ([0.0; LANES], [0.0; LANES], [0.0; LANES], [0.0; LANES]);
-        for i in 0..LANES {
-            // Unused lanes repeat the first sample; their results are dropped.
-            let j = if i < packet.len { i } else { 0 };
-            let (k, screen) = (packet.samples[j], packet.screen[j]);
-            let at = vis.resolve(k, &self.triangles[packet.triangles[j] as usize], inst.object, screen);
-            // Each of the spp stratified samples stands for its own 1/spp of the pixel: the texture filters
-            // integrate over that cell, not the whole pixel again.
-            let [dudx, dvdx, dudy, dvdy] = at.duv.map(|d| d * self.sample_cell);
-            footprints[i] = Footprint { dudx, dvdx, dudy, dvdy };
-            (u[i], v[i], sx[i], sy[i]) = (at.uv.x, at.uv.y, screen.x, screen.y);
-        }
+        // Unused lanes repeat the first sample; their results are dropped.
+        let used = |i: usize| if i < packet.len { i } else { 0 };
+        let samples = std::array::from_fn(|i| packet.samples[used(i)]);
+        let tris = std::array::from_fn(|i| &self.triangles[packet.triangles[used(i)] as usize]);
+        let screen = |c: fn(Vec2) -> f32| F8::new(std::array::from_fn(|i| c(packet.screen[used(i)])));
+        let (sx, sy) = (screen(|p| p.x), screen(|p| p.y));
+        let at = vis.resolve8(&samples, &tris, inst.object, sx, sy);
+        // Each of the spp stratified samples stands for its own 1/spp of the pixel: the texture filters
+        // integrate over that cell, not the whole pixel again.
+        let [dudx, dvdx, dudy, dvdy] = at.duv.map(|d| (d * F8::splat(self.sample_cell)).to_array());
+        let footprints: [Footprint; LANES] =
+            std::array::from_fn(|i| Footprint { dudx: dudx[i], dvdx: dvdx[i], dudy: dudy[i], dvdy: dvdy[i] });
         let max_step = self.max_steps[packet.surface as usize];
-        let (uv, surface_frame) = refine_uv8(
-            self.camera,
-            &inst.surface,
-            &inst.object_to_camera,
-            (F8::new(u), F8::new(v)),
-            (F8::new(sx), F8::new(sy)),
-            max_step,
-        );
+        let (uv, surface_frame) =
+            refine_uv8(self.camera, &inst.surface, &inst.object_to_camera, at.uv, (sx, sy), max_step);
         let result = self.shade.shade8(inst, uv, &surface_frame, &footprints);
         for i in 0..packet.len {
             let uv = Vec2::new(uv.0.as_array_ref()[i], uv.1.as_array_ref()[i]);
