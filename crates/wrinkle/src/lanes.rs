@@ -15,6 +15,46 @@ pub fn lane_index() -> F8 {
     F8::new(std::array::from_fn(|l| l as f32))
 }
 
+/// `values[index]` per lane. An index outside the slice reads its nearest end instead, never memory outside.
+#[inline]
+pub fn gather(values: &[f32], index: I8) -> F8 {
+    let index = clamp_index(index, values.len());
+    #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+    // SAFETY: AVX2 is enabled at compile time and every index is inside `values` (clamped above); `I8` and
+    // `__m256i` are both eight i32, `F8` and `__m256` eight f32, so the transmutes only rename.
+    unsafe {
+        use std::arch::x86_64::*;
+        std::mem::transmute::<__m256, F8>(_mm256_i32gather_ps::<4>(values.as_ptr(), std::mem::transmute(index)))
+    }
+    #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
+    F8::new(index.to_array().map(|k| values[k as usize]))
+}
+
+/// The four bytes `values[index]` per lane as one little-endian word each, clamped as `gather`.
+#[inline]
+pub fn gather_words(values: &[[u8; 4]], index: I8) -> I8 {
+    let index = clamp_index(index, values.len());
+    #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+    // SAFETY: as in `gather`; the gather reads four unaligned bytes per lane.
+    unsafe {
+        use std::arch::x86_64::*;
+        std::mem::transmute::<__m256i, I8>(_mm256_i32gather_epi32::<4>(
+            values.as_ptr().cast(),
+            std::mem::transmute(index),
+        ))
+    }
+    #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
+    I8::new(index.to_array().map(|k| i32::from_le_bytes(values[k as usize])))
+}
+
+/// Indices clamped into a slice of `len` elements (at most the first 2^31 of a longer one).
+#[inline]
+fn clamp_index(index: I8, len: usize) -> I8 {
+    assert!(len > 0, "a gather from an empty slice");
+    let last = (len - 1).min(i32::MAX as usize) as i32;
+    index.max(I8::splat(0)).min(I8::splat(last))
+}
+
 /// Eight 3-vectors, one per lane.
 #[derive(Clone, Copy, Debug)]
 pub struct V3 {

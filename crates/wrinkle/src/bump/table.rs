@@ -14,7 +14,7 @@
 //! function shifted by half a step, which we do not copy so that nearest and bilinear agree at texel centres.
 
 use crate::image::GreyImage;
-use crate::lanes::{CmpEq, CmpGe, CmpGt, F8, I8, LANES};
+use crate::lanes::{gather, CmpEq, CmpGe, CmpGt, F8, I8, LANES};
 use crate::texture::filter::{FilterOptions, Filterable};
 use crate::texture::mip::{MipFilter, Resample};
 use crate::texture::texel::{Plane, TexelSource};
@@ -198,8 +198,7 @@ impl Gradients {
         let (rows, fy) = neighbourhood8(t, h);
         let row_starts = rows.map(|r| r * I8::splat(w as i32));
         // The texels of row `r` (0..4: jm, j0, j1, j2) at column `c` (0..4: im, i0, i1, i2), per lane.
-        let texel =
-            |r: usize, c: usize| F8::new((row_starts[r] + cols[c]).to_array().map(|k| self.0.texels[k as usize]));
+        let texel = |r: usize, c: usize| gather(&self.0.texels, row_starts[r] + cols[c]);
         // The twelve texels of the 4x4 neighbourhood that the three lookups read (the corners are unused).
         let (r0m, r00, r01, r02) = (texel(1, 0), texel(1, 1), texel(1, 2), texel(1, 3));
         let (r1m, r10, r11, r12) = (texel(2, 0), texel(2, 1), texel(2, 2), texel(2, 3));

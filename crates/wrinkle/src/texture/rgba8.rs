@@ -7,7 +7,7 @@ use super::mip::{MipFilter, Resample};
 use super::texel::{Plane, TexelSource};
 use super::wrap::Wrap;
 use crate::image::color::{srgb8_decode_table, SrgbEncoder};
-use crate::lanes::{F8, I8};
+use crate::lanes::{gather_words, F8, I8};
 use glam::Vec4;
 use rayon::prelude::*;
 use std::sync::OnceLock;
@@ -86,8 +86,6 @@ impl Rgba8Plane {
         let blocks_per_row = width.div_ceil(BLOCK);
         let block_row = blocks_per_row * BLOCK * BLOCK;
         let mut texels = vec![[0u8; 4]; block_row * height.div_ceil(BLOCK)];
-        // Lane lookups index the texels with i32 (images are at most 16384 x 16384).
-        assert!(texels.len() <= i32::MAX as usize, "an 8-bit plane of {width} x {height} texels is too large");
         texels.par_chunks_mut(block_row).enumerate().for_each(|(b, out)| {
             for r in 0..BLOCK.min(height - b * BLOCK) {
                 for (i, t) in row(b * BLOCK + r).iter().enumerate() {
@@ -141,18 +139,7 @@ impl Rgba8Plane {
     /// outside the plane reads its nearest end instead (never memory outside).
     #[inline]
     pub fn gather8(&self, index: I8) -> [F8; 4] {
-        let index = index.max(I8::splat(0)).min(I8::splat(self.texels.len() as i32 - 1));
-        #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
-        // SAFETY: AVX2 is enabled at compile time; every index was clamped into the texels above (`from_rows`
-        // keeps the count within i32); `I8` and `__m256i` are both eight i32.
-        let words: I8 = unsafe {
-            use std::arch::x86_64::*;
-            let index: __m256i = std::mem::transmute(index);
-            std::mem::transmute(_mm256_i32gather_epi32::<4>(self.texels.as_ptr().cast(), index))
-        };
-        #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
-        let words = I8::new(index.to_array().map(|k| self.word(k as usize) as i32));
-        self.decode8(words)
+        self.decode8(gather_words(&self.texels, index))
     }
 
     /// Eight texel words decoded to linear RGBA channel lanes, as `texel` decodes one.
