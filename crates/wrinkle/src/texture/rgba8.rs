@@ -199,7 +199,8 @@ impl TexelSource for Rgba8Plane {
     }
     #[inline]
     fn prefetch(&self, i: usize, j: usize) {
-        let texel = &self.texels[block_index(i, j, self.blocks_per_row)];
+        // A hint: a texel outside the plane is not asked for.
+        let Some(texel) = self.texels.get(block_index(i, j, self.blocks_per_row)) else { return };
         #[cfg(target_arch = "x86_64")]
         // SAFETY: a prefetch never faults, and the pointer is to a texel of this plane.
         unsafe {
@@ -241,5 +242,7 @@ mod tests {
                 assert_eq!(plane.word(index.as_array_ref()[0] as usize), u32::from_le_bytes(want));
             }
         }
+        // A prefetch is a hint: outside the plane it does nothing (and does not panic).
+        plane.prefetch(w + 3, h + 4);
     }
 }
