@@ -24,7 +24,10 @@ pub fn gather(values: &[f32], index: I8) -> F8 {
     // `__m256i` are both eight i32, `F8` and `__m256` eight f32, so the transmutes only rename.
     unsafe {
         use std::arch::x86_64::*;
-        std::mem::transmute::<__m256, F8>(_mm256_i32gather_ps::<4>(values.as_ptr(), std::mem::transmute(index)))
+        std::mem::transmute::<__m256, F8>(_mm256_i32gather_ps::<4>(
+            values.as_ptr(),
+            std::mem::transmute::<I8, __m256i>(index),
+        ))
     }
     #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
     F8::new(index.to_array().map(|k| values[k as usize]))
@@ -40,7 +43,7 @@ pub fn gather_words(values: &[[u8; 4]], index: I8) -> I8 {
         use std::arch::x86_64::*;
         std::mem::transmute::<__m256i, I8>(_mm256_i32gather_epi32::<4>(
             values.as_ptr().cast(),
-            std::mem::transmute(index),
+            std::mem::transmute::<I8, __m256i>(index),
         ))
     }
     #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]

@@ -81,32 +81,6 @@ pub fn sample_rgba8_repeating(levels: &[Rgba8Plane], s: f32, t: f32, fp: &Footpr
     probes_on_lanes(levels, s, t, &probes)
 }
 
-/// Eight lookups of `sample_rgba8_repeating` at once, as channel lanes. Each lookup's probes still run
-/// on the lanes; first, the texels around every lookup's centre are prefetched, so that the eight
-/// lookups' cache misses overlap instead of coming one after the other.
-pub fn sample8_rgba8_repeating(
-    levels: &[Rgba8Plane],
-    s: F8,
-    t: F8,
-    fp: &[Footprint; LANES],
-    max_aniso: f32,
-) -> [F8; 4] {
-    let (w, h) = (levels[0].width(), levels[0].height());
-    let (s, t) = (s - s.floor(), t - t.floor());
-    let (s, t) = (s.as_array_ref(), t.as_array_ref());
-    let probes: [Probes; LANES] = std::array::from_fn(|l| {
-        let probes = Probes::of_footprint(&fp[l], w, h, max_aniso);
-        let l0 = (probes.level.clamp(0.0, (levels.len() - 1) as f32)) as usize;
-        for level in &levels[l0..(l0 + 2).min(levels.len())] {
-            let (w, h) = (level.width(), level.height());
-            level.prefetch(((s[l] * w as f32) as usize).min(w - 1), ((t[l] * h as f32) as usize).min(h - 1));
-        }
-        probes
-    });
-    let texels: [Vec4; LANES] = std::array::from_fn(|l| probes_on_lanes(levels, s[l], t[l], &probes[l]));
-    std::array::from_fn(|c| F8::new(texels.map(|v| v[c])))
-}
-
 /// The mean of the probes, on lanes where there are enough of them to fill lanes.
 fn probes_on_lanes(levels: &[Rgba8Plane], s: f32, t: f32, probes: &Probes) -> Vec4 {
     // A lane lookup costs about three scalar probes.
@@ -164,9 +138,6 @@ mod tests {
                 let want = sample(data.levels(), &addr, s, t, &fp, 16.0);
                 let got = sample_rgba8_repeating(data.levels(), s, t, &fp, 16.0);
                 assert!((got - want).abs().max_element() < 2e-5, "{ratio}:1 at ({s}, {t}): {got} vs {want}");
-                let packet = sample8_rgba8_repeating(data.levels(), F8::splat(s), F8::splat(t), &[fp; LANES], 16.0);
-                let lane = Vec4::from(packet.map(|c| c.as_array_ref()[5]));
-                assert!((lane - want).abs().max_element() < 2e-5, "packet {ratio}:1 at ({s}, {t}): {lane} vs {want}");
             }
         }
     }

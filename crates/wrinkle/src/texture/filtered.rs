@@ -120,17 +120,6 @@ impl Texture for FilteredTexture {
                 let fp = footprints.map(|f| f.replicated(ru, rv));
                 trilinear8(d.levels(), u * F8::splat(ru), v * F8::splat(rv), &fp)
             }
-            Levels::Bytes(d) if opts.filter.filter == Filter::Aniso && d.wrap() == [Wrap::Repeat; 2] => {
-                let (ru, rv) = (opts.repeat.x, opts.repeat.y);
-                let fp = footprints.map(|f| f.replicated(ru, rv));
-                aniso::sample8_rgba8_repeating(
-                    d.levels(),
-                    u * F8::splat(ru),
-                    v * F8::splat(rv),
-                    &fp,
-                    opts.filter.max_aniso,
-                )
-            }
             _ => lane_by_lane(self, u, v, footprints, solid),
         }
     }
