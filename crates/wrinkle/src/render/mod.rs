@@ -7,8 +7,8 @@ pub use frame::{Aovs, Frame, Stats};
 
 use crate::geometry::tessellate::{grid, segments_for, Mesh};
 use crate::lanes::{F8, LANES};
-use crate::procedural::hypertexture::{Hypertexture, VolumeLight};
 use crate::raster::refine::refine_uv8;
+use crate::procedural::hypertexture::{Hypertexture, VolumeLight};
 use crate::raster::setup::ProjectedVertex;
 use crate::raster::visibility::EMPTY;
 use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
@@ -19,7 +19,6 @@ use crate::{Error, Result};
 use glam::{Affine3A, Mat3, Quat, Vec2, Vec3};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::Mutex;
 use std::time::Instant;
 
 /// The largest image side accepted.
@@ -143,6 +142,7 @@ pub fn render_with_progress(
         bump_filter: options.bump_filter,
     };
     let mut frame = Frame::new(w, h, options.aovs, cam.background);
+    let band_len = tile_size * w;
     let job = TileJob {
         bins: &bins,
         camera: &camera,
@@ -157,7 +157,23 @@ pub fn render_with_progress(
         volumes: &scene.volumes,
         volume_lights: &volume_lights(&scene.lights),
     };
-    let band_aovs = job.render_bands(&mut frame.color, options.spp, progress);
+    let (bands_done, bands) = (AtomicUsize::new(0), bins.tiles_y);
+    let band_aovs: Vec<frame::AovBand> = frame
+        .color
+        .par_chunks_mut(band_len)
+        .enumerate()
+        .map_init(
+            || TileScratch { vis: VisBuffer::new(tile_size, options.spp), shaded: Vec::new() },
+            |scratch, (ty, color)| {
+                let mut aov = frame::AovBand::new(options.aovs, color.len());
+                for tx in 0..bins.tiles_x {
+                    job.tile(scratch, (tx, ty), color, &mut aov, w, h);
+                }
+                progress(bands_done.fetch_add(1, Ordering::Relaxed) + 1, bands);
+                aov
+            },
+        )
+        .collect();
     frame.gather_aovs(band_aovs);
     stats.raster_shade_ms = ms(t);
     frame.stats = stats;
@@ -276,50 +292,6 @@ impl TileJob<'_> {
         }
         let (origin, dir) = self.camera.ray(screen);
         self.volumes.iter().fold(behind, |c, v| v.composite(origin, dir, depth, c, self.volume_lights))
-    }
-
-    /// Renders every band of tiles into the frame's `color`, and returns the bands' AOVs in band order. The
-    /// workers take bands from a queue, the costliest (most binned triangles) first: the cheap bands above
-    /// and below the objects come last and even out the threads' finishing times, where rayon's halving of
-    /// the band range could leave one thread alone on a costly middle band at the end of the frame.
-    fn render_bands(
-        &self,
-        color: &mut [[f32; 3]],
-        spp: usize,
-        progress: &(dyn Fn(usize, usize) + Sync),
-    ) -> Vec<frame::AovBand> {
-        let (w, h) = (self.camera.width as usize, self.camera.height as usize);
-        let tile_size = self.bins.tile_size;
-        let mut queue: Vec<(usize, &mut [[f32; 3]])> = color.chunks_mut(tile_size * w).enumerate().collect();
-        queue.sort_by_key(|&(ty, _)| self.band_cost(ty));
-        let queue = Mutex::new(queue);
-        // The guard is dropped as soon as the band is taken, not held while it renders.
-        let next_band = || queue.lock().expect("a render worker panicked").pop();
-        let (bands_done, bands) = (AtomicUsize::new(0), self.bins.tiles_y);
-        let mut aovs: Vec<(usize, frame::AovBand)> = (0..rayon::current_num_threads())
-            .into_par_iter()
-            .flat_map_iter(|_| {
-                let mut scratch = TileScratch { vis: VisBuffer::new(tile_size, spp), shaded: Vec::new() };
-                let mut finished = Vec::new();
-                while let Some((ty, color)) = next_band() {
-                    let mut aov = frame::AovBand::new(self.aovs, color.len());
-                    for tx in 0..self.bins.tiles_x {
-                        self.tile(&mut scratch, (tx, ty), color, &mut aov, w, h);
-                    }
-                    progress(bands_done.fetch_add(1, Ordering::Relaxed) + 1, bands);
-                    finished.push((ty, aov));
-                }
-                finished
-            })
-            .collect();
-        aovs.sort_by_key(|&(ty, _)| ty);
-        aovs.into_iter().map(|(_, aov)| aov).collect()
-    }
-
-    /// The triangles binned to the tiles of band `ty`: the band's share of the frame's work, roughly.
-    fn band_cost(&self, ty: usize) -> usize {
-        let tiles_x = self.bins.tiles_x;
-        self.bins.bins[ty * tiles_x..(ty + 1) * tiles_x].iter().map(Vec::len).sum()
     }
 
     /// Rasterizes, shades and resolves one tile into its band of the frame.
