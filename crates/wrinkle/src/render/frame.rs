@@ -46,7 +46,7 @@ pub struct Frame {
 }
 
 impl Frame {
-    /// A frame of `background`. Both threads fill it: one thread's fill (calloc's memset, as the allocator
+    /// A frame of `background`, filled by all workers: one thread's fill (calloc's memset, as the allocator
     /// hands back the last frame's memory) was a few milliseconds of every frame's serial time.
     pub fn new(width: usize, height: usize, aovs: Aovs, background: Vec3) -> Frame {
         let n = width * height;
