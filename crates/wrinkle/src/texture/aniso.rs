@@ -7,7 +7,7 @@ use super::mip::trilinear;
 use super::reconstruct::Addressing;
 use super::rgba8::Rgba8Plane;
 use super::texel::TexelSource;
-use super::trilinear8::{bilinear8_on, OneLevel};
+use super::trilinear8::{bilinear8_on, lerp8, OneLevel};
 use super::wrap::Wrap;
 use super::Footprint;
 use crate::lanes::{lane_index, CmpLt, F8, LANES};
@@ -102,8 +102,7 @@ fn probes_on_lanes(levels: &[Rgba8Plane], s: f32, t: f32, probes: &Probes) -> Ve
         let (ps, pt) = (ps - ps.floor(), pt - pt.floor());
         let mut value = bilinear8_on(&fine, ps, pt);
         if frac > 0.0 {
-            let b = bilinear8_on(&coarse, ps, pt);
-            value = std::array::from_fn(|c| value[c] + (b[c] - value[c]) * F8::splat(frac));
+            value = lerp8(value, bilinear8_on(&coarse, ps, pt), F8::splat(frac));
         }
         // Lanes past the last probe add nothing.
         let live = k.cmp_lt(F8::splat(probes.count as f32));

@@ -1,6 +1,7 @@
 //! Trilinear lookups of a repeating 8-bit texture on eight lanes, for the packet shader: the usual case of
 //! a colour texture on a rendered surface. Levels, weights and tap positions are computed on all lanes at
-//! once; the texel reads go lane by lane. The result equals `mip::trilinear` (within f32 rounding).
+//! once; the texels are gathered where all lanes read one level, else read lane by lane. The result equals
+//! `mip::trilinear` (within f32 rounding).
 
 use super::rgba8::Rgba8Plane;
 use super::texel::TexelSource;
@@ -31,8 +32,13 @@ pub fn trilinear8(levels: &[Rgba8Plane], s: F8, t: F8, fp: &[Footprint; LANES]) 
     if frac.cmp_gt(F8::ZERO).none() {
         return a;
     }
-    let b = bilinear8(levels, &coarse, s, t);
-    std::array::from_fn(|c| a[c] + (b[c] - a[c]) * frac)
+    lerp8(a, bilinear8(levels, &coarse, s, t), frac)
+}
+
+/// a + (b - a) t, channel by channel.
+#[inline]
+pub(super) fn lerp8(a: Rgba8, b: Rgba8, t: F8) -> Rgba8 {
+    std::array::from_fn(|c| a[c] + (b[c] - a[c]) * t)
 }
 
 /// Bilinear lookups at (s, t) in [0, 1], lane i on level `level[i]`, repeating.
@@ -107,11 +113,7 @@ pub(super) fn bilinear8_on(src: &impl LaneTexels, s: F8, t: F8) -> Rgba8 {
     let (c0, c1) = (Rgba8Plane::column_part8(i0), Rgba8Plane::column_part8(i1));
     let (r0, r1) = (Rgba8Plane::row_part8(j0, blocks), Rgba8Plane::row_part8(j1, blocks));
     let (t00, t10, t01, t11) = (src.fetch(r0 + c0), src.fetch(r0 + c1), src.fetch(r1 + c0), src.fetch(r1 + c1));
-    std::array::from_fn(|c| {
-        let bottom = t00[c] + (t10[c] - t00[c]) * fx;
-        let top = t01[c] + (t11[c] - t01[c]) * fx;
-        bottom + (top - bottom) * fy
-    })
+    lerp8(lerp8(t00, t10, fx), lerp8(t01, t11, fx), fy)
 }
 
 /// Texel `k` in [-1, n - 1] and the next one, both wrapped into [0, n).
