@@ -50,12 +50,58 @@ pub fn gather_words(values: &[[u8; 4]], index: I8) -> I8 {
     I8::new(index.to_array().map(|k| i32::from_le_bytes(values[k as usize])))
 }
 
+/// `gather_words` from two slices: lanes 0-3 read `low`, lanes 4-7 read `high` (two MIP levels, say),
+/// each index clamped into its own slice.
+#[inline]
+pub fn gather_words_split(low: &[[u8; 4]], high: &[[u8; 4]], index: I8) -> I8 {
+    let last = |s: &[[u8; 4]]| {
+        assert!(!s.is_empty(), "a gather from an empty slice");
+        (s.len() - 1).min(i32::MAX as usize) as i32
+    };
+    let (l, h) = (last(low), last(high));
+    let index = index.max(I8::splat(0)).min(I8::new([l, l, l, l, h, h, h, h]));
+    #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+    // SAFETY: as in `gather_words`, each half of the lanes indexing its own slice.
+    unsafe {
+        use std::arch::x86_64::*;
+        let index = std::mem::transmute::<I8, __m256i>(index);
+        let low = _mm_i32gather_epi32::<4>(low.as_ptr().cast(), _mm256_castsi256_si128(index));
+        let high = _mm_i32gather_epi32::<4>(high.as_ptr().cast(), _mm256_extracti128_si256::<1>(index));
+        std::mem::transmute::<__m256i, I8>(_mm256_set_m128i(high, low))
+    }
+    #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
+    {
+        let index = index.to_array();
+        I8::new(std::array::from_fn(|k| {
+            let s = if k < 4 { low } else { high };
+            i32::from_le_bytes(s[index[k] as usize])
+        }))
+    }
+}
+
 /// Indices clamped into a slice of `len` elements (at most the first 2^31 of a longer one).
 #[inline]
 fn clamp_index(index: I8, len: usize) -> I8 {
     assert!(len > 0, "a gather from an empty slice");
     let last = (len - 1).min(i32::MAX as usize) as i32;
     index.max(I8::splat(0)).min(I8::splat(last))
+}
+
+/// The sums of four vectors' lanes: [sum of a[0]'s lanes, .., sum of a[3]'s].
+#[inline]
+pub fn sum_lanes(a: [F8; 4]) -> [f32; 4] {
+    #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+    // SAFETY: AVX is enabled at compile time; `F8` and `__m256` are both eight f32, `[f32; 4]` and `__m128`
+    // four, so the transmutes only rename.
+    unsafe {
+        use std::arch::x86_64::*;
+        let [p, q, r, s] = a.map(|v| std::mem::transmute::<F8, __m256>(v));
+        // Pairwise sums: after three, each 128-bit half holds the four vectors' sums over its four lanes.
+        let h = _mm256_hadd_ps(_mm256_hadd_ps(p, q), _mm256_hadd_ps(r, s));
+        std::mem::transmute::<__m128, [f32; 4]>(_mm_add_ps(_mm256_castps256_ps128(h), _mm256_extractf128_ps::<1>(h)))
+    }
+    #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
+    a.map(|v| v.reduce_add())
 }
 
 /// Eight 3-vectors, one per lane.
@@ -207,5 +253,20 @@ mod tests {
             assert!((tp.lane(i) - m.transform_point3(a[i])).length() < 1e-5);
         }
         assert_eq!(V3::ZERO.normalize_or_zero().lane(0), Vec3::ZERO);
+    }
+
+    #[test]
+    fn split_gather_reads_each_half_from_its_slice_clamped() {
+        let low: Vec<[u8; 4]> = (0..5u8).map(|k| [k, 0, 0, 0]).collect();
+        let high: Vec<[u8; 4]> = (0..9u8).map(|k| [k, 1, 0, 0]).collect();
+        let got = gather_words_split(&low, &high, I8::new([4, 0, -3, 7, 8, 0, -1, 100])).to_array();
+        let word = |k: u8, half: u8| i32::from_le_bytes([k, half, 0, 0]);
+        assert_eq!(got, [word(4, 0), word(0, 0), word(0, 0), word(4, 0), word(8, 1), word(0, 1), word(0, 1), word(8, 1)]);
+    }
+
+    #[test]
+    fn lane_sums_of_four_vectors() {
+        let a: [F8; 4] = std::array::from_fn(|k| F8::new(std::array::from_fn(|l| (k * 10 + l) as f32)));
+        assert_eq!(sum_lanes(a), [28.0, 108.0, 188.0, 268.0]);
     }
 }

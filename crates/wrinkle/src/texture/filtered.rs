@@ -6,7 +6,7 @@ use super::filter::{Filter, FilterOptions, Filterable};
 use super::mip::{build_levels, LevelRule, MipFilter};
 use super::rgba8::Rgba8Plane;
 use super::texel::Plane;
-use super::trilinear8::trilinear8;
+use super::trilinear8::{trilinear8, trilinear_taps8};
 use super::wrap::Wrap;
 use super::{aniso, lane_by_lane, Footprint, SolidPoint, Texture};
 use crate::image::color::SrgbEncoder;
@@ -94,6 +94,13 @@ impl FilteredTexture {
             Levels::Float(d) => d.sample(opts, self.options.border, s, t, fp),
             Levels::Bytes(d) if opts.filter == Filter::Aniso && d.wrap() == [Wrap::Repeat; 2] => {
                 aniso::sample_rgba8_repeating(d.levels(), s, t, fp, opts.max_aniso)
+            }
+            Levels::Bytes(d)
+                if opts.filter == Filter::Trilinear
+                    && opts.level_rule == LevelRule::Longest
+                    && d.wrap() == [Wrap::Repeat; 2] =>
+            {
+                trilinear_taps8(d.levels(), s, t, fp)
             }
             Levels::Bytes(d) => d.sample(opts, self.options.border, s, t, fp),
         }

@@ -6,10 +6,12 @@
 use super::mip::{MipFilter, Resample};
 use super::texel::{Plane, TexelSource};
 use super::wrap::Wrap;
+use crate::huge_pages::advise_huge_pages;
 use crate::image::color::{srgb8_decode_table, SrgbEncoder};
-use crate::lanes::{gather_words, F8, I8};
+use crate::lanes::{gather_words, gather_words_split, F8, I8};
 use glam::Vec4;
 use rayon::prelude::*;
+use std::mem::MaybeUninit;
 use std::sync::OnceLock;
 
 #[derive(Clone, Debug)]
@@ -19,7 +21,7 @@ pub struct Rgba8Plane {
     /// Blocks of 4 x 4 texels (64 bytes: one cache line), block rows from the bottom; inside a block, rows
     /// from the bottom. A bilinear footprint then touches one or two cache lines, not two rows far apart,
     /// and mostly one memory page: on levels larger than the caches that is most of a lookup's cost.
-    texels: Vec<[u8; 4]>,
+    blocks: Vec<Block>,
     blocks_per_row: usize,
     srgb: bool,
     decode: &'static [f32; 256],
@@ -27,6 +29,12 @@ pub struct Rgba8Plane {
 
 /// The side of a storage block, in texels.
 const BLOCK: usize = 4;
+
+/// One storage block: 4 x 4 texels, aligned to a cache line so that it fills exactly one (a `Vec` of
+/// bytes would start 16 bytes into a line, and every block would straddle two).
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
+struct Block([[u8; 4]; BLOCK * BLOCK]);
 
 fn table(srgb: bool) -> &'static [f32; 256] {
     static SRGB: OnceLock<[f32; 256]> = OnceLock::new();
@@ -84,16 +92,28 @@ impl Rgba8Plane {
         convert: impl Fn(&T) -> [u8; 4] + Sync,
     ) -> Self {
         let blocks_per_row = width.div_ceil(BLOCK);
-        let block_row = blocks_per_row * BLOCK * BLOCK;
-        let mut texels = vec![[0u8; 4]; block_row * height.div_ceil(BLOCK)];
-        texels.par_chunks_mut(block_row).enumerate().for_each(|(b, out)| {
+        let count = blocks_per_row * height.div_ceil(BLOCK);
+        // Untouched memory first, so that the huge-page advice holds when the pages are faulted in by the
+        // writes below (`vec!` would write every block once before).
+        let mut blocks = Vec::with_capacity(count);
+        advise_huge_pages(blocks.spare_capacity_mut());
+        blocks.spare_capacity_mut()[..count].par_chunks_mut(blocks_per_row).enumerate().for_each(|(b, out)| {
+            let out = Block::texels_mut(Block::zeroed(out));
             for r in 0..BLOCK.min(height - b * BLOCK) {
                 for (i, t) in row(b * BLOCK + r).iter().enumerate() {
                     out[block_index(i, r, blocks_per_row)] = convert(t);
                 }
             }
         });
-        Rgba8Plane { width, height, texels, blocks_per_row, srgb, decode: table(srgb) }
+        // SAFETY: every one of the first `count` blocks was written (zeroed, then filled) just above.
+        unsafe { blocks.set_len(count) };
+        Rgba8Plane { width, height, blocks, blocks_per_row, srgb, decode: table(srgb) }
+    }
+
+    /// Every texel in storage order (see `block_index`).
+    #[inline]
+    fn texels(&self) -> &[[u8; 4]] {
+        Block::texels(&self.blocks)
     }
 
     #[inline]
@@ -132,14 +152,20 @@ impl Rgba8Plane {
     /// The texel at storage index `index` (see `row_part8`) as one word: R in the low byte, A in the high.
     #[inline]
     pub fn word(&self, index: usize) -> u32 {
-        u32::from_le_bytes(self.texels[index])
+        u32::from_le_bytes(self.texels()[index])
     }
 
     /// The texels at storage indices `index` (see `row_part8`), decoded to channel lanes. An index
     /// outside the plane reads its nearest end instead (never memory outside).
     #[inline]
     pub fn gather8(&self, index: I8) -> [F8; 4] {
-        self.decode8(gather_words(&self.texels, index))
+        self.decode8(gather_words(self.texels(), index))
+    }
+
+    /// `gather8` from two planes of one texture (two levels): lanes 0-3 read `low`, lanes 4-7 `high`.
+    #[inline]
+    pub fn gather_split8(low: &Rgba8Plane, high: &Rgba8Plane, index: I8) -> [F8; 4] {
+        low.decode8(gather_words_split(low.texels(), high.texels(), index))
     }
 
     /// Eight texel words decoded to linear RGBA channel lanes, as `texel` decodes one.
@@ -183,6 +209,32 @@ fn decode8_avx2(table: &[f32; 256], words: I8) -> [F8; 4] {
     }
 }
 
+impl Block {
+    /// Writes zero texels to every block of `blocks`, which are then initialised.
+    fn zeroed(blocks: &mut [MaybeUninit<Block>]) -> &mut [Block] {
+        for b in blocks.iter_mut() {
+            b.write(Block([[0; 4]; BLOCK * BLOCK]));
+        }
+        // SAFETY: every element was written just above, and `MaybeUninit<Block>` has `Block`'s layout.
+        unsafe { &mut *(blocks as *mut [MaybeUninit<Block>] as *mut [Block]) }
+    }
+
+    /// The texels of consecutive blocks, in storage order.
+    #[inline]
+    fn texels(blocks: &[Block]) -> &[[u8; 4]] {
+        // SAFETY: `Block` is `repr(C)` around 16 texels of 4 bytes: 64 bytes, its alignment, so no padding,
+        // and a texel's alignment (1) divides the block's.
+        unsafe { std::slice::from_raw_parts(blocks.as_ptr().cast(), blocks.len() * BLOCK * BLOCK) }
+    }
+
+    /// The same, to write.
+    #[inline]
+    fn texels_mut(blocks: &mut [Block]) -> &mut [[u8; 4]] {
+        // SAFETY: as in `texels`; the borrow of the blocks is exclusive and lasts as long as the result.
+        unsafe { std::slice::from_raw_parts_mut(blocks.as_mut_ptr().cast(), blocks.len() * BLOCK * BLOCK) }
+    }
+}
+
 impl TexelSource for Rgba8Plane {
     type Texel = Vec4;
     #[inline]
@@ -195,12 +247,12 @@ impl TexelSource for Rgba8Plane {
     }
     #[inline]
     fn texel(&self, i: usize, j: usize) -> Vec4 {
-        self.decode_one(self.texels[block_index(i, j, self.blocks_per_row)])
+        self.decode_one(self.texels()[block_index(i, j, self.blocks_per_row)])
     }
     #[inline]
     fn prefetch(&self, i: usize, j: usize) {
         // A hint: a texel outside the plane is not asked for.
-        let Some(texel) = self.texels.get(block_index(i, j, self.blocks_per_row)) else { return };
+        let Some(texel) = self.texels().get(block_index(i, j, self.blocks_per_row)) else { return };
         #[cfg(target_arch = "x86_64")]
         // SAFETY: a prefetch never faults, and the pointer is to a texel of this plane.
         unsafe {
@@ -212,7 +264,8 @@ impl TexelSource for Rgba8Plane {
     #[inline]
     fn quad(&self, i: [usize; 2], j: [usize; 2]) -> [Vec4; 4] {
         let (c, r) = (i.map(column_part), j.map(|j| row_part(j, self.blocks_per_row)));
-        [r[0] + c[0], r[0] + c[1], r[1] + c[0], r[1] + c[1]].map(|k| self.decode_one(self.texels[k]))
+        let texels = self.texels();
+        [r[0] + c[0], r[0] + c[1], r[1] + c[0], r[1] + c[1]].map(|k| self.decode_one(texels[k]))
     }
 }
 
