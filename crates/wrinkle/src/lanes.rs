@@ -261,7 +261,10 @@ mod tests {
         let high: Vec<[u8; 4]> = (0..9u8).map(|k| [k, 1, 0, 0]).collect();
         let got = gather_words_split(&low, &high, I8::new([4, 0, -3, 7, 8, 0, -1, 100])).to_array();
         let word = |k: u8, half: u8| i32::from_le_bytes([k, half, 0, 0]);
-        assert_eq!(got, [word(4, 0), word(0, 0), word(0, 0), word(4, 0), word(8, 1), word(0, 1), word(0, 1), word(8, 1)]);
+        assert_eq!(
+            got,
+            [word(4, 0), word(0, 0), word(0, 0), word(4, 0), word(8, 1), word(0, 1), word(0, 1), word(8, 1)]
+        );
     }
 
     #[test]

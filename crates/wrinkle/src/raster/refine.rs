@@ -50,8 +50,8 @@ pub fn refine_uv8(
     let mut out = frame.advanced(moved(wrap_u, u, refined.0, step_u), moved(wrap_v, v, refined.1, step_v));
     // The usual step is a few hundredths of a segment, where the expansion is exact to f32 precision;
     // longer ones (towards grazing views) evaluate the surface again.
-    let short = step_u.abs().cmp_lt(max.0 * F8::splat(TAYLOR_STEP))
-        & step_v.abs().cmp_lt(max.1 * F8::splat(TAYLOR_STEP));
+    let short =
+        step_u.abs().cmp_lt(max.0 * F8::splat(TAYLOR_STEP)) & step_v.abs().cmp_lt(max.1 * F8::splat(TAYLOR_STEP));
     let long = short.move_mask() ^ 0xff;
     if long != 0 {
         let (ru, rv) = (refined.0.as_array_ref(), refined.1.as_array_ref());
@@ -110,7 +110,8 @@ mod tests {
         max_step: Vec2,
     ) -> (Vec2, SurfaceFrame) {
         let s = |x: f32| F8::splat(x);
-        let ((u, v), frame) = refine_uv8(camera, surface, to_cam, (s(uv.x), s(uv.y)), (s(screen.x), s(screen.y)), max_step);
+        let ((u, v), frame) =
+            refine_uv8(camera, surface, to_cam, (s(uv.x), s(uv.y)), (s(screen.x), s(screen.y)), max_step);
         (Vec2::new(u.as_array_ref()[3], v.as_array_ref()[3]), frame.lane(3))
     }
 

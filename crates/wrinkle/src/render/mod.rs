@@ -7,8 +7,8 @@ pub use frame::{Aovs, Frame, Stats};
 
 use crate::geometry::tessellate::{grid, segments_for, Mesh};
 use crate::lanes::{F8, LANES};
-use crate::raster::refine::refine_uv8;
 use crate::procedural::hypertexture::{Hypertexture, VolumeLight};
+use crate::raster::refine::refine_uv8;
 use crate::raster::setup::ProjectedVertex;
 use crate::raster::visibility::EMPTY;
 use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};

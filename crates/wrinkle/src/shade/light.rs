@@ -104,7 +104,10 @@ mod tests {
         let eye = Vec3::new(0.2, 0.1, 1.0).normalize();
         let phong = Phong::new(0.4, 30.0);
         for light in [
-            Light::Directional { direction: Vec3::new(-0.3, 0.0, -1.0).normalize(), radiance: Vec3::new(1.0, 0.5, 2.0) },
+            Light::Directional {
+                direction: Vec3::new(-0.3, 0.0, -1.0).normalize(),
+                radiance: Vec3::new(1.0, 0.5, 2.0),
+            },
             Light::Point { position: Vec3::new(1.0, 2.0, 3.0), radiance: Vec3::splat(5.0) },
             Light::Ambient { radiance: Vec3::splat(0.1) },
         ] {

@@ -96,7 +96,11 @@ impl ShadeContext<'_> {
                     BumpFormula::Blinn => n_geo + blinn_d8(n_geo, frame.pu, frame.pv, fu, fv),
                     formula => V3::from_lanes(&std::array::from_fn(|i| {
                         let lane = |x: F8| x.as_array_ref()[i];
-                        perturbed_normal(&frame.lane(i), Perturbation { f: lane(f), fu: lane(fu), fv: lane(fv) }, formula)
+                        perturbed_normal(
+                            &frame.lane(i),
+                            Perturbation { f: lane(f), fu: lane(fu), fv: lane(fv) },
+                            formula,
+                        )
                     })),
                 }
             }
@@ -157,7 +161,13 @@ impl Bump {
     /// F, Fu, Fv at surface parameters `uv` (whose frame is `frame`): a table is replicated `repeat` times
     /// and scaled by `scale`; a procedural pattern is scaled by `scale` and band-limited to the footprint.
     #[inline]
-    pub fn perturbation(&self, uv: Vec2, frame: &SurfaceFrame, footprint: &Footprint, filter: BumpFilter) -> Perturbation {
+    pub fn perturbation(
+        &self,
+        uv: Vec2,
+        frame: &SurfaceFrame,
+        footprint: &Footprint,
+        filter: BumpFilter,
+    ) -> Perturbation {
         let table = match &self.source {
             BumpSource::Table(t) => t,
             BumpSource::Procedural(p) => {

@@ -28,7 +28,9 @@ impl Probes {
             return Probes { count: 1, level: f32::MAX, axis: Vec2::ZERO };
         }
         let ratio = if axes.minor > 0.0 { axes.major / axes.minor } else { f32::MAX };
-        let count = ratio.min(max_aniso).ceil().max(1.0) as usize;
+        // Rounding in the axes puts an exact 8:1 footprint at 8.000002 as often as at 7.999998: a ratio
+        // within 1e-4 (relative) above a whole number takes that number of probes, not one more.
+        let count = (ratio.min(max_aniso) * (1.0 - 1e-4)).ceil().max(1.0) as usize;
         // Each probe covers an equal part of the major axis, and at least the minor axis.
         let width = (axes.major / count as f32).max(axes.minor);
         let level = if width > 1.0 { width.log2() } else { 0.0 };
@@ -118,6 +120,20 @@ mod tests {
     use super::*;
     use crate::texture::mip::MipFilter;
     use crate::texture::Filterable;
+
+    /// An n:1 footprint takes n probes at every angle and size, whatever the rounding in its axes.
+    #[test]
+    fn whole_ratios_take_that_many_probes() {
+        for k in 0..1000 {
+            let (angle, size) = (k as f32 * 0.0137, 2f32.powf(-12.0 + 6.0 * (k as f32 * 0.618).fract()));
+            let (c, sn) = (angle.cos(), angle.sin());
+            for ratio in [2.0, 8.0, 16.0] {
+                let fp =
+                    Footprint { dudx: ratio * size * c, dvdx: ratio * size * sn, dudy: -size * sn, dvdy: size * c };
+                assert_eq!(Probes::of_footprint(&fp, 4096, 4096, 16.0).count, ratio as usize, "{fp:?}");
+            }
+        }
+    }
 
     /// The lane form equals the generic filter, from one probe to more than eight.
     #[test]

@@ -54,7 +54,8 @@ pub fn trilinear_taps8(levels: &[Rgba8Plane], s: f32, t: f32, fp: &Footprint) ->
     let (w, h) = (halves(fine.width, coarse.width), halves(fine.height, coarse.height));
     let blocks = halves(fine.blocks_per_row(), coarse.blocks_per_row());
     // Tap k of a level is texel (i + (k & 1), j + (k >> 1)) of its footprint.
-    let (di, dj) = (F8::new([0.0, 1.0, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0]), F8::new([0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 1.0]));
+    let (di, dj) =
+        (F8::new([0.0, 1.0, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0]), F8::new([0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 1.0]));
     let (s, t) = (s - s.floor(), t - t.floor());
     let x = F8::splat(s) * w.round_float() - F8::splat(0.5);
     let y = F8::splat(t) * h.round_float() - F8::splat(0.5);
