@@ -41,6 +41,32 @@ impl Default for TextureOptions {
 pub struct FilteredTexture {
     data: Arc<Levels>,
     options: TextureOptions,
+    path: Path,
+}
+
+/// Which code serves a lookup, decided once from the data and the options: the common cases of 8-bit
+/// repeating textures have their own lane forms.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Path {
+    /// Trilinear, longest-axis level: `trilinear_taps8` (one lookup) and `trilinear8` (eight).
+    Trilinear8,
+    /// Anisotropic: `aniso::sample_rgba8_repeating`.
+    Aniso8,
+    /// Everything else: the generic filters.
+    General,
+}
+
+impl Path {
+    fn of(data: &Levels, options: &TextureOptions) -> Path {
+        let Levels::Bytes(d) = data else { return Path::General };
+        let f = &options.filter;
+        match f.filter {
+            _ if d.wrap() != [Wrap::Repeat; 2] => Path::General,
+            Filter::Trilinear if f.level_rule == LevelRule::Longest => Path::Trilinear8,
+            Filter::Aniso => Path::Aniso8,
+            _ => Path::General,
+        }
+    }
 }
 
 /// The pyramid's storage: 8-bit texels for 8-bit sources, f32 for 16-bit and float ones.
@@ -54,10 +80,7 @@ impl FilteredTexture {
     pub fn new(image: &Image<[f32; 4]>, options: TextureOptions) -> Self {
         let rows: Vec<Vec4> = image.pixels.iter().map(|&p| Vec4::from(p)).collect();
         let plane = Plane::from_top_rows(image.width, image.height, &rows);
-        FilteredTexture {
-            data: Arc::new(Levels::Float(Filterable::new(plane, options.mip_filter, options.wrap))),
-            options,
-        }
+        FilteredTexture::of(Levels::Float(Filterable::new(plane, options.mip_filter, options.wrap)), options)
     }
 
     /// A texture from 8-bit RGBA bytes as stored (row 0 at the top); `srgb`: the colour channels are
@@ -69,17 +92,23 @@ impl FilteredTexture {
         let levels =
             std::iter::once(base).chain(float.iter().skip(1).map(|l| Rgba8Plane::encode(l, srgb, &encoder))).collect();
         let data = Filterable::from_levels(levels, options.mip_filter, options.wrap);
-        FilteredTexture { data: Arc::new(Levels::Bytes(data)), options }
+        FilteredTexture::of(Levels::Bytes(data), options)
+    }
+
+    fn of(data: Levels, options: TextureOptions) -> Self {
+        let path = Path::of(&data, &options);
+        FilteredTexture { data: Arc::new(data), options, path }
     }
 
     /// The same texture data looked up with other filter options (the pyramid is shared, not rebuilt).
     pub fn with_options(&self, filter: FilterOptions) -> FilteredTexture {
-        FilteredTexture { data: Arc::clone(&self.data), options: TextureOptions { filter, ..self.options } }
+        let options = TextureOptions { filter, ..self.options };
+        FilteredTexture { data: Arc::clone(&self.data), options, path: Path::of(&self.data, &options) }
     }
 
     /// The same texture data replicated `repeat` times per unit of (u, v).
     pub fn with_repeat(&self, repeat: Vec2) -> FilteredTexture {
-        FilteredTexture { data: Arc::clone(&self.data), options: TextureOptions { repeat, ..self.options } }
+        FilteredTexture { data: Arc::clone(&self.data), options: TextureOptions { repeat, ..self.options }, path: self.path }
     }
 
     pub fn options(&self) -> &TextureOptions {
@@ -89,20 +118,22 @@ impl FilteredTexture {
     /// The filtered texture at (s, t) of one period, footprint in the same units.
     #[inline]
     pub fn lookup(&self, s: f32, t: f32, fp: &Footprint) -> Vec4 {
-        let opts = &self.options.filter;
+        match (self.path, &*self.data) {
+            (Path::Trilinear8, Levels::Bytes(d)) => trilinear_taps8(d.levels(), s, t, fp),
+            (Path::Aniso8, Levels::Bytes(d)) => {
+                aniso::sample_rgba8_repeating(d.levels(), s, t, fp, self.options.filter.max_aniso)
+            }
+            _ => self.lookup_generic(s, t, fp),
+        }
+    }
+
+    /// `lookup` through the generic filters (kept out of line, so that `lookup` itself stays small).
+    #[inline(never)]
+    fn lookup_generic(&self, s: f32, t: f32, fp: &Footprint) -> Vec4 {
+        let (opts, border) = (&self.options.filter, self.options.border);
         match &*self.data {
-            Levels::Float(d) => d.sample(opts, self.options.border, s, t, fp),
-            Levels::Bytes(d) if opts.filter == Filter::Aniso && d.wrap() == [Wrap::Repeat; 2] => {
-                aniso::sample_rgba8_repeating(d.levels(), s, t, fp, opts.max_aniso)
-            }
-            Levels::Bytes(d)
-                if opts.filter == Filter::Trilinear
-                    && opts.level_rule == LevelRule::Longest
-                    && d.wrap() == [Wrap::Repeat; 2] =>
-            {
-                trilinear_taps8(d.levels(), s, t, fp)
-            }
-            Levels::Bytes(d) => d.sample(opts, self.options.border, s, t, fp),
+            Levels::Float(d) => d.sample(opts, border, s, t, fp),
+            Levels::Bytes(d) => d.sample(opts, border, s, t, fp),
         }
     }
 }
@@ -117,12 +148,8 @@ impl Texture for FilteredTexture {
 
     fn sample8(&self, u: F8, v: F8, footprints: &[Footprint; LANES], solid: &[SolidPoint; LANES]) -> [F8; 4] {
         let opts = &self.options;
-        match &*self.data {
-            Levels::Bytes(d)
-                if opts.filter.filter == Filter::Trilinear
-                    && opts.filter.level_rule == LevelRule::Longest
-                    && d.wrap() == [Wrap::Repeat; 2] =>
-            {
+        match (self.path, &*self.data) {
+            (Path::Trilinear8, Levels::Bytes(d)) => {
                 let (ru, rv) = (opts.repeat.x, opts.repeat.y);
                 let fp = footprints.map(|f| f.replicated(ru, rv));
                 trilinear8(d.levels(), u * F8::splat(ru), v * F8::splat(rv), &fp)
