@@ -1,6 +1,6 @@
-//! Levels of 8-bit RGBA texels, decoded per fetch through a 256-entry table (sRGB or linear colour, linear
-//! alpha): a quarter of the memory of f32 texels, so four times as much of a pyramid stays in cache. Used
-//! for 8-bit sources: level 0 keeps the source bytes exactly; coarser levels are built in linear light in
+//! Levels of 8-bit RGBA texels, decoded per fetch through a table (sRGB or linear colour, linear alpha):
+//! a quarter of the memory of f32 texels, so four times as much of a pyramid stays in cache. Used for 8-bit
+//! sources: level 0 keeps the source bytes exactly; coarser levels are built in linear light in
 //! f32 and then encoded (within one code of the exact encoding).
 
 use super::mip::{MipFilter, Resample};
@@ -24,7 +24,7 @@ pub struct Rgba8Plane {
     blocks: Vec<Block>,
     blocks_per_row: usize,
     srgb: bool,
-    decode: &'static [f32; 256],
+    decode: &'static DecodeTable,
 }
 
 /// The side of a storage block, in texels.
@@ -36,13 +36,20 @@ const BLOCK: usize = 4;
 #[repr(C, align(64))]
 struct Block([[u8; 4]; BLOCK * BLOCK]);
 
-fn table(srgb: bool) -> &'static [f32; 256] {
-    static SRGB: OnceLock<[f32; 256]> = OnceLock::new();
-    static LINEAR: OnceLock<[f32; 256]> = OnceLock::new();
+/// The decode table: entries 0-255 the colour channels (sRGB or linear), 256-511 alpha (always linear),
+/// so that one four-lane gather decodes a whole texel.
+type DecodeTable = [f32; 512];
+
+fn table(srgb: bool) -> &'static DecodeTable {
+    static SRGB: OnceLock<DecodeTable> = OnceLock::new();
+    static LINEAR: OnceLock<DecodeTable> = OnceLock::new();
+    let with_alpha = |colour: [f32; 256]| -> DecodeTable {
+        std::array::from_fn(|i| if i < 256 { colour[i] } else { (i - 256) as f32 * (1.0 / 255.0) })
+    };
     if srgb {
-        SRGB.get_or_init(srgb8_decode_table)
+        SRGB.get_or_init(|| with_alpha(srgb8_decode_table()))
     } else {
-        LINEAR.get_or_init(|| std::array::from_fn(|i| i as f32 / 255.0))
+        LINEAR.get_or_init(|| with_alpha(std::array::from_fn(|i| i as f32 / 255.0)))
     }
 }
 
@@ -116,10 +123,23 @@ impl Rgba8Plane {
         Block::texels(&self.blocks)
     }
 
+    /// One texel in linear light: one gather of four table entries.
     #[inline]
     fn decode_one(&self, t: [u8; 4]) -> Vec4 {
-        let d = self.decode;
-        Vec4::new(d[t[0] as usize], d[t[1] as usize], d[t[2] as usize], t[3] as f32 * (1.0 / 255.0))
+        #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+        // SAFETY: AVX2 is enabled at compile time; each index is a byte (0-255), alpha's plus 256, so inside
+        // the 512-entry table; `__m128` and `Vec4` are both four f32, so the transmute only renames.
+        unsafe {
+            use std::arch::x86_64::*;
+            let bytes = _mm_cvtepu8_epi32(_mm_cvtsi32_si128(i32::from_le_bytes(t)));
+            let index = _mm_add_epi32(bytes, _mm_setr_epi32(0, 0, 0, 256));
+            std::mem::transmute::<__m128, Vec4>(_mm_i32gather_ps::<4>(self.decode.as_ptr(), index))
+        }
+        #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
+        {
+            let d = self.decode;
+            Vec4::new(d[t[0] as usize], d[t[1] as usize], d[t[2] as usize], d[256 + t[3] as usize])
+        }
     }
 
     /// The texels in linear light.
@@ -188,10 +208,10 @@ impl Rgba8Plane {
 /// The colour channels through the decode table with three gathers (the table stays in L1), alpha scaled.
 #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
 #[inline]
-fn decode8_avx2(table: &[f32; 256], words: I8) -> [F8; 4] {
+fn decode8_avx2(table: &DecodeTable, words: I8) -> [F8; 4] {
     use std::arch::x86_64::*;
     // SAFETY: AVX2 is enabled at compile time (cfg above); every gather index is masked to 0..=255, inside
-    // the 256-entry table; `__m256` and `F8` are both eight f32 lanes and `__m256i` and `I8` eight i32, so the
+    // the table's colour entries; `__m256` and `F8` are both eight f32 lanes and `__m256i` and `I8` eight i32, so the
     // transmutes only rename.
     unsafe {
         let v: __m256i = std::mem::transmute(words);
