@@ -6,7 +6,6 @@
 pub mod bump;
 pub mod error;
 pub mod geometry;
-pub mod huge_pages;
 pub mod image;
 pub mod lanes;
 pub mod procedural;

@@ -6,7 +6,6 @@
 use super::mip::{MipFilter, Resample};
 use super::texel::{Plane, TexelSource};
 use super::wrap::Wrap;
-use crate::huge_pages::advise_huge_pages;
 use crate::image::color::{srgb8_decode_table, SrgbEncoder};
 use crate::lanes::{gather_words, gather_words_split, F8, I8};
 use glam::Vec4;
@@ -100,10 +99,9 @@ impl Rgba8Plane {
     ) -> Self {
         let blocks_per_row = width.div_ceil(BLOCK);
         let count = blocks_per_row * height.div_ceil(BLOCK);
-        // Untouched memory first, so that the huge-page advice holds when the pages are faulted in by the
-        // writes below (`vec!` would write every block once before).
+        // Each block row zeroed and filled by one worker in one pass (`vec!` would first write every block
+        // on one thread).
         let mut blocks = Vec::with_capacity(count);
-        advise_huge_pages(blocks.spare_capacity_mut());
         blocks.spare_capacity_mut()[..count].par_chunks_mut(blocks_per_row).enumerate().for_each(|(b, out)| {
             let out = Block::texels_mut(Block::zeroed(out));
             for r in 0..BLOCK.min(height - b * BLOCK) {
