@@ -108,7 +108,11 @@ impl FilteredTexture {
 
     /// The same texture data replicated `repeat` times per unit of (u, v).
     pub fn with_repeat(&self, repeat: Vec2) -> FilteredTexture {
-        FilteredTexture { data: Arc::clone(&self.data), options: TextureOptions { repeat, ..self.options }, path: self.path }
+        FilteredTexture {
+            data: Arc::clone(&self.data),
+            options: TextureOptions { repeat, ..self.options },
+            path: self.path,
+        }
     }
 
     pub fn options(&self) -> &TextureOptions {
