@@ -209,8 +209,8 @@ impl Rgba8Plane {
 fn decode8_avx2(table: &DecodeTable, words: I8) -> [F8; 4] {
     use std::arch::x86_64::*;
     // SAFETY: AVX2 is enabled at compile time (cfg above); every gather index is masked to 0..=255, inside
-    // the table's colour entries; `__m256` and `F8` are both eight f32 lanes and `__m256i` and `I8` eight i32, so the
-    // transmutes only rename.
+    // the table's colour entries; `__m256` and `F8` are both eight f32 lanes and `__m256i` and `I8` eight
+    // i32, so the transmutes only rename.
     unsafe {
         let v: __m256i = std::mem::transmute(words);
         let byte = _mm256_set1_epi32(0xFF);
