@@ -29,7 +29,7 @@ pub const LUMA: [f32; 3] = [0.2126, 0.7152, 0.0722];
 
 /// PNG filter for every row: with `png::Compression::Fast` (fdeflate), `Up` gave the best
 /// speed/size balance on rendered pictures.
-const PNG_FILTER: png::FilterType = png::FilterType::Up;
+const PNG_FILTER: png::Filter = png::Filter::Up;
 
 /// EXR encoding: ZIP over blocks of 16 scan lines, lossless and compressed in parallel.
 const EXR_ENCODING: Encoding = Encoding::SMALL_LOSSLESS;
@@ -299,7 +299,6 @@ fn write_png(
         encoder.set_depth(depth);
         encoder.set_compression(png::Compression::Fast);
         encoder.set_filter(PNG_FILTER);
-        encoder.set_adaptive_filter(png::AdaptiveFilterType::NonAdaptive);
         let mut writer = encoder.write_header().map_err(png_error)?;
         writer.write_image_data(data).map_err(png_error)?;
         writer.finish().map_err(png_error)

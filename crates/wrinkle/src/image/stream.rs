@@ -11,7 +11,6 @@ use std::io::{BufReader, Read, Write};
 use std::path::{Path, PathBuf};
 
 use ::image::{DynamicImage, ImageReader};
-use png_stream as png;
 
 use super::io::{decode, decode_error, open_message, write_atomic, LUMA};
 use crate::error::{Error, Result};
