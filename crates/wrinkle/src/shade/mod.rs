@@ -202,3 +202,38 @@ fn solid_points(frame: &Frame8, footprints: &[Footprint; LANES]) -> [SolidPoint;
     let width = dx.cross(dy).length().sqrt();
     std::array::from_fn(|i| SolidPoint { p: frame.p.lane(i), width: width.as_array_ref()[i] })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::procedural::solid::solid_point;
+
+    /// The lane form gives every lane what `solid_point` gives its sample: the point and the pixel's size.
+    #[test]
+    fn solid_points_on_lanes_equal_the_scalar_form() {
+        let v = |k: usize, a: f32| Vec3::new(a + k as f32 * 0.3, 1.0 - a * k as f32 * 0.1, 0.5 * a - k as f32);
+        let frames: [SurfaceFrame; LANES] = std::array::from_fn(|k| SurfaceFrame {
+            p: v(k, 0.2),
+            pu: v(k, 1.5),
+            pv: v(k, -0.7),
+            puu: Vec3::ZERO,
+            puv: Vec3::ZERO,
+            pvv: Vec3::ZERO,
+        });
+        let footprints: [Footprint; LANES] = std::array::from_fn(|k| {
+            let s = 0.001 * (k + 1) as f32;
+            Footprint { dudx: s, dvdx: 0.3 * s, dudy: -0.2 * s, dvdy: 2.0 * s }
+        });
+        let got = solid_points(&Frame8::from_lanes(&frames), &footprints);
+        for k in 0..LANES {
+            let want = solid_point(&frames[k], &footprints[k]);
+            assert_eq!(got[k].p, want.p, "lane {k}");
+            assert!(
+                (got[k].width - want.width).abs() <= 1e-5 * want.width,
+                "lane {k}: {} vs {}",
+                got[k].width,
+                want.width
+            );
+        }
+    }
+}
