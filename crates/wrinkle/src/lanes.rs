@@ -54,11 +54,7 @@ pub fn gather_words(values: &[[u8; 4]], index: I8) -> I8 {
 /// each index clamped into its own slice.
 #[inline]
 pub fn gather_words_split(low: &[[u8; 4]], high: &[[u8; 4]], index: I8) -> I8 {
-    let last = |s: &[[u8; 4]]| {
-        assert!(!s.is_empty(), "a gather from an empty slice");
-        (s.len() - 1).min(i32::MAX as usize) as i32
-    };
-    let (l, h) = (last(low), last(high));
+    let (l, h) = (last_index(low.len()), last_index(high.len()));
     let index = index.max(I8::splat(0)).min(I8::new([l, l, l, l, h, h, h, h]));
     #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
     // SAFETY: as in `gather_words`, each half of the lanes indexing its own slice.
@@ -79,12 +75,17 @@ pub fn gather_words_split(low: &[[u8; 4]], high: &[[u8; 4]], index: I8) -> I8 {
     }
 }
 
-/// Indices clamped into a slice of `len` elements (at most the first 2^31 of a longer one).
+/// Indices clamped into a slice of `len` elements.
 #[inline]
 fn clamp_index(index: I8, len: usize) -> I8 {
+    index.max(I8::splat(0)).min(I8::splat(last_index(len)))
+}
+
+/// The last index a gather may read in a slice of `len` elements (at most 2^31 - 1 for a longer one).
+#[inline]
+fn last_index(len: usize) -> i32 {
     assert!(len > 0, "a gather from an empty slice");
-    let last = (len - 1).min(i32::MAX as usize) as i32;
-    index.max(I8::splat(0)).min(I8::splat(last))
+    (len - 1).min(i32::MAX as usize) as i32
 }
 
 /// The sums of four vectors' lanes: [sum of a[0]'s lanes, .., sum of a[3]'s].

@@ -3,14 +3,14 @@
 //! beyond that ratio the level rises so the probes still cover the whole major axis.
 
 use super::ewa::Axes;
-use super::mip::trilinear;
+use super::mip::{level_pair, trilinear};
 use super::reconstruct::Addressing;
 use super::rgba8::Rgba8Plane;
 use super::texel::TexelSource;
 use super::trilinear8::{bilinear8_on, lerp8, OneLevel};
 use super::wrap::Wrap;
 use super::Footprint;
-use crate::lanes::{lane_index, CmpLt, F8, LANES};
+use crate::lanes::{lane_index, sum_lanes, CmpLt, F8, LANES};
 use glam::{Vec2, Vec4};
 
 /// Where one lookup's probes go: `count` trilinear probes on `level`, centred on the lookup and spread
@@ -90,11 +90,8 @@ fn probes_on_lanes(levels: &[Rgba8Plane], s: f32, t: f32, probes: &Probes) -> Ve
         let addr = Addressing { wrap: [Wrap::Repeat; 2], border: Vec4::ZERO };
         return probe_by_probe(levels, &addr, s, t, probes);
     }
-    let last = levels.len() - 1;
-    let level = probes.level.clamp(0.0, last as f32);
-    let l0 = level as usize;
-    let frac = level - l0 as f32;
-    let (fine, coarse) = (OneLevel(&levels[l0]), OneLevel(&levels[(l0 + 1).min(last)]));
+    let (fine, coarse, frac) = level_pair(probes.level, levels.len());
+    let (fine, coarse) = (OneLevel(&levels[fine]), OneLevel(&levels[coarse]));
     let (s, t) = (F8::splat(s), F8::splat(t));
     let mut sum = [F8::ZERO; 4];
     for chunk in (0..probes.count).step_by(LANES) {
@@ -112,7 +109,7 @@ fn probes_on_lanes(levels: &[Rgba8Plane], s: f32, t: f32, probes: &Probes) -> Ve
             sum[c] += live.blend(value[c], F8::ZERO);
         }
     }
-    Vec4::from(sum.map(|c| c.reduce_add())) * (1.0 / probes.count as f32)
+    Vec4::from(sum_lanes(sum)) * (1.0 / probes.count as f32)
 }
 
 #[cfg(test)]

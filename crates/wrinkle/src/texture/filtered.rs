@@ -59,9 +59,11 @@ enum Path {
 impl Path {
     fn of(data: &Levels, options: &TextureOptions) -> Path {
         let Levels::Bytes(d) = data else { return Path::General };
+        if d.wrap() != [Wrap::Repeat; 2] {
+            return Path::General;
+        }
         let f = &options.filter;
         match f.filter {
-            _ if d.wrap() != [Wrap::Repeat; 2] => Path::General,
             Filter::Trilinear if f.level_rule == LevelRule::Longest => Path::Trilinear8,
             Filter::Aniso => Path::Aniso8,
             _ => Path::General,

@@ -222,16 +222,23 @@ pub fn nearest_level<S: TexelSource>(
     bilinear(&levels[l], addr, s, t)
 }
 
+/// The two levels around the fractional `level` of a pyramid of `count` levels, and the coarser one's
+/// weight: (fine, coarse, frac), `level` clamped into the pyramid (at the last level coarse = fine, frac 0).
+#[inline]
+pub fn level_pair(level: f32, count: usize) -> (usize, usize, f32) {
+    let last = count - 1;
+    let level = level.clamp(0.0, last as f32);
+    let fine = level as usize;
+    (fine, (fine + 1).min(last), level - fine as f32)
+}
+
 /// Bilinear on the two levels around `level`, blended linearly (trilinear).
 #[inline]
 pub fn trilinear<S: TexelSource>(levels: &[S], addr: &Addressing<S::Texel>, s: f32, t: f32, level: f32) -> S::Texel {
-    let last = levels.len() - 1;
-    let level = level.clamp(0.0, last as f32);
-    let l0 = level as usize;
-    let frac = level - l0 as f32;
-    let a = bilinear(&levels[l0], addr, s, t);
-    if frac > 0.0 && l0 < last {
-        lerp(a, bilinear(&levels[l0 + 1], addr, s, t), frac)
+    let (fine, coarse, frac) = level_pair(level, levels.len());
+    let a = bilinear(&levels[fine], addr, s, t);
+    if frac > 0.0 && coarse > fine {
+        lerp(a, bilinear(&levels[coarse], addr, s, t), frac)
     } else {
         a
     }

@@ -4,6 +4,7 @@
 //! read lane by lane. `trilinear_taps8` serves one lookup, its eight taps (four per level) on the lanes.
 //! Both equal `mip::trilinear` (within f32 rounding).
 
+use super::mip::level_pair;
 use super::rgba8::Rgba8Plane;
 use super::texel::TexelSource;
 use super::Footprint;
@@ -42,11 +43,8 @@ pub fn trilinear8(levels: &[Rgba8Plane], s: F8, t: F8, fp: &[Footprint; LANES]) 
 /// weighted by its share of the result; one pair of gathers reads all eight texels. Against the scalar
 /// `mip::trilinear` this is a quarter of the instructions, so more lookups' cache misses overlap.
 pub fn trilinear_taps8(levels: &[Rgba8Plane], s: f32, t: f32, fp: &Footprint) -> Vec4 {
-    let last = levels.len() - 1;
-    let level = fp.mip_level(levels[0].width(), levels[0].height()).clamp(0.0, last as f32);
-    let l0 = level as usize;
-    let frac = level - l0 as f32;
-    let (fine, coarse) = (&levels[l0], &levels[(l0 + 1).min(last)]);
+    let (fine, coarse, frac) = level_pair(fp.mip_level(levels[0].width(), levels[0].height()), levels.len());
+    let (fine, coarse) = (&levels[fine], &levels[coarse]);
     let halves = |a: usize, b: usize| {
         let (a, b) = (a as i32, b as i32);
         I8::new([a, a, a, a, b, b, b, b])
