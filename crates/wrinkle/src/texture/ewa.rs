@@ -19,10 +19,9 @@
 use super::reconstruct::{bilinear, Addressing};
 use super::texel::{Texel, TexelSource};
 use super::Footprint;
-use crate::lanes::{lane_index, F8, LANES};
+use crate::lanes::{lane_index, F8, I8, LANES};
 use glam::Vec2;
 use std::sync::OnceLock;
-use wide::i32x8 as I8;
 
 /// Standard deviations of the pixel's Gaussian (in pixels) and of the texel reconstruction Gaussian (in
 /// texels of the level read): a little above those of the one-pixel box (0.289) and of the bilinear tent
