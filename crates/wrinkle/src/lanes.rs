@@ -33,12 +33,16 @@ pub fn gather(values: &[f32], index: I8) -> F8 {
     F8::new(index.to_array().map(|k| values[k as usize]))
 }
 
-/// The four bytes `values[index]` per lane as one little-endian word each, clamped as `gather`.
+/// The four bytes `values[index]` per lane as one little-endian word each.
+///
+/// # Safety
+/// Every index is inside `values` (the caller clamps them, with bounds it worked out once).
 #[inline]
-pub fn gather_words(values: &[[u8; 4]], index: I8) -> I8 {
-    let index = clamp_index(index, values.len());
+pub unsafe fn gather_words(values: &[[u8; 4]], index: I8) -> I8 {
+    debug_assert!(index.to_array().iter().all(|&k| k >= 0 && (k as usize) < values.len()));
     #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
-    // SAFETY: as in `gather`; the gather reads four unaligned bytes per lane.
+    // SAFETY: AVX2 is enabled at compile time and every index is inside `values` (the caller's promise); the
+    // gather reads four unaligned bytes per lane; `I8` and `__m256i` are both eight i32.
     unsafe {
         use std::arch::x86_64::*;
         std::mem::transmute::<__m256i, I8>(_mm256_i32gather_epi32::<4>(
@@ -50,12 +54,16 @@ pub fn gather_words(values: &[[u8; 4]], index: I8) -> I8 {
     I8::new(index.to_array().map(|k| i32::from_le_bytes(values[k as usize])))
 }
 
-/// `gather_words` from two slices: lanes 0-3 read `low`, lanes 4-7 read `high` (two MIP levels, say),
-/// each index clamped into its own slice.
+/// `gather_words` from two slices: lanes 0-3 read `low`, lanes 4-7 read `high` (two MIP levels, say).
+///
+/// # Safety
+/// Each index is inside its own slice.
 #[inline]
-pub fn gather_words_split(low: &[[u8; 4]], high: &[[u8; 4]], index: I8) -> I8 {
-    let (l, h) = (last_index(low.len()), last_index(high.len()));
-    let index = index.max(I8::splat(0)).min(I8::new([l, l, l, l, h, h, h, h]));
+pub unsafe fn gather_words_split(low: &[[u8; 4]], high: &[[u8; 4]], index: I8) -> I8 {
+    debug_assert!(index.to_array().iter().enumerate().all(|(l, &k)| {
+        let len = if l < 4 { low.len() } else { high.len() };
+        k >= 0 && (k as usize) < len
+    }));
     #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
     // SAFETY: as in `gather_words`, each half of the lanes indexing its own slice.
     unsafe {
@@ -72,6 +80,41 @@ pub fn gather_words_split(low: &[[u8; 4]], high: &[[u8; 4]], index: I8) -> I8 {
             let s = if k < 4 { low } else { high };
             i32::from_le_bytes(s[index[k] as usize])
         }))
+    }
+}
+
+/// `v[from[l]]` on each lane `l` (a lane shuffle across the whole vector).
+#[inline]
+pub fn permute(v: I8, from: I8) -> I8 {
+    #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+    // SAFETY: AVX2 is enabled at compile time; `I8` and `__m256i` are both eight i32, so the transmutes only
+    // rename; the instruction uses the low three bits of each `from` lane, always a lane of `v`.
+    unsafe {
+        use std::arch::x86_64::*;
+        let (v, from) = (std::mem::transmute::<I8, __m256i>(v), std::mem::transmute::<I8, __m256i>(from));
+        std::mem::transmute::<__m256i, I8>(_mm256_permutevar8x32_epi32(v, from))
+    }
+    #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
+    {
+        let (v, from) = (v.to_array(), from.to_array());
+        I8::new(from.map(|k| v[(k & 7) as usize]))
+    }
+}
+
+/// `permute` for f32 lanes.
+#[inline]
+pub fn permute_f(v: F8, from: I8) -> F8 {
+    #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+    // SAFETY: as in `permute`; `F8` and `__m256` are both eight f32.
+    unsafe {
+        use std::arch::x86_64::*;
+        let (v, from) = (std::mem::transmute::<F8, __m256>(v), std::mem::transmute::<I8, __m256i>(from));
+        std::mem::transmute::<__m256, F8>(_mm256_permutevar8x32_ps(v, from))
+    }
+    #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
+    {
+        let (v, from) = (v.to_array(), from.to_array());
+        F8::new(from.map(|k| v[(k & 7) as usize]))
     }
 }
 
@@ -257,14 +300,15 @@ mod tests {
     }
 
     #[test]
-    fn split_gather_reads_each_half_from_its_slice_clamped() {
+    fn split_gather_reads_each_half_from_its_slice() {
         let low: Vec<[u8; 4]> = (0..5u8).map(|k| [k, 0, 0, 0]).collect();
         let high: Vec<[u8; 4]> = (0..9u8).map(|k| [k, 1, 0, 0]).collect();
-        let got = gather_words_split(&low, &high, I8::new([4, 0, -3, 7, 8, 0, -1, 100])).to_array();
+        // SAFETY: lanes 0-3 index `low` (5 words), lanes 4-7 `high` (9 words), all inside.
+        let got = unsafe { gather_words_split(&low, &high, I8::new([4, 0, 3, 1, 8, 0, 7, 2])) }.to_array();
         let word = |k: u8, half: u8| i32::from_le_bytes([k, half, 0, 0]);
         assert_eq!(
             got,
-            [word(4, 0), word(0, 0), word(0, 0), word(4, 0), word(8, 1), word(0, 1), word(0, 1), word(8, 1)]
+            [word(4, 0), word(0, 0), word(3, 0), word(1, 0), word(8, 1), word(0, 1), word(7, 1), word(2, 1)]
         );
     }
 

@@ -227,8 +227,11 @@ pub fn nearest_level<S: TexelSource>(
 #[inline]
 pub fn level_pair(level: f32, count: usize) -> (usize, usize, f32) {
     let last = count - 1;
-    let level = level.clamp(0.0, last as f32);
-    let fine = level as usize;
+    // `max` first turns NaN into 0 (`clamp` would keep it).
+    let level = level.max(0.0).min(last as f32);
+    // SAFETY: `level` is a number in [0, last], and a pyramid has far fewer than 2^32 levels; the unchecked
+    // conversion is one instruction, a checked one seven.
+    let fine = unsafe { level.to_int_unchecked::<u32>() } as usize;
     (fine, (fine + 1).min(last), level - fine as f32)
 }
 

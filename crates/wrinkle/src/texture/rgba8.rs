@@ -22,6 +22,9 @@ pub struct Rgba8Plane {
     /// and mostly one memory page: on levels larger than the caches that is most of a lookup's cost.
     blocks: Vec<Block>,
     blocks_per_row: usize,
+    /// The last storage index a gather may read: worked out once, so that a lookup's clamp is two
+    /// instructions.
+    last: i32,
     srgb: bool,
     decode: &'static DecodeTable,
 }
@@ -99,6 +102,7 @@ impl Rgba8Plane {
     ) -> Self {
         let blocks_per_row = width.div_ceil(BLOCK);
         let count = blocks_per_row * height.div_ceil(BLOCK);
+        assert!(count > 0, "an 8-bit texture level of {width}x{height} texels holds none");
         // Each block row zeroed and filled by one worker in one pass (`vec!` would first write every block
         // on one thread).
         let mut blocks = Vec::with_capacity(count);
@@ -112,7 +116,9 @@ impl Rgba8Plane {
         });
         // SAFETY: every one of the first `count` blocks was written (zeroed, then filled) just above.
         unsafe { blocks.set_len(count) };
-        Rgba8Plane { width, height, blocks, blocks_per_row, srgb, decode: table(srgb) }
+        // Indices are i32 lanes: a larger level (over 2^31 texels) is read only in its first 2^31.
+        let last = (count * BLOCK * BLOCK - 1).min(i32::MAX as usize) as i32;
+        Rgba8Plane { width, height, blocks, blocks_per_row, last, srgb, decode: table(srgb) }
     }
 
     /// Every texel in storage order (see `block_index`).
@@ -167,6 +173,15 @@ impl Rgba8Plane {
         ((i >> shift) << (2 * shift)) + (i & mask)
     }
 
+    /// `row_part8` on the lanes where `is_row` is set (all bits), with their `blocks_per_row`, and
+    /// `column_part8` on the others: both axes' parts in one pass.
+    #[inline]
+    pub fn parts8(k: I8, blocks_per_row: I8, is_row: I8) -> I8 {
+        let (mask, shift) = (I8::splat(BLOCK as i32 - 1), BLOCK.trailing_zeros() as i32);
+        let stride = is_row.blend(blocks_per_row, I8::splat(1));
+        (((k >> shift) * stride) << (2 * shift)) + ((k & mask) << (is_row & I8::splat(shift)))
+    }
+
     /// The texel at storage index `index` (see `row_part8`) as one word: R in the low byte, A in the high.
     #[inline]
     pub fn word(&self, index: usize) -> u32 {
@@ -177,13 +192,18 @@ impl Rgba8Plane {
     /// outside the plane reads its nearest end instead (never memory outside).
     #[inline]
     pub fn gather8(&self, index: I8) -> [F8; 4] {
-        self.decode8(gather_words(self.texels(), index))
+        let index = index.max(I8::splat(0)).min(I8::splat(self.last));
+        // SAFETY: every index is in [0, last], inside the texels (see `last`).
+        self.decode8(unsafe { gather_words(self.texels(), index) })
     }
 
     /// `gather8` from two planes of one texture (two levels): lanes 0-3 read `low`, lanes 4-7 `high`.
     #[inline]
     pub fn gather_split8(low: &Rgba8Plane, high: &Rgba8Plane, index: I8) -> [F8; 4] {
-        low.decode8(gather_words_split(low.texels(), high.texels(), index))
+        let (l, h) = (low.last, high.last);
+        let index = index.max(I8::splat(0)).min(I8::new([l, l, l, l, h, h, h, h]));
+        // SAFETY: each half's indices are in [0, last] of its own plane, inside its texels.
+        low.decode8(unsafe { gather_words_split(low.texels(), high.texels(), index) })
     }
 
     /// Eight texel words decoded to linear RGBA channel lanes, as `texel` decodes one.

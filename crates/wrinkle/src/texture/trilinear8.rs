@@ -8,7 +8,7 @@ use super::mip::level_pair;
 use super::rgba8::Rgba8Plane;
 use super::texel::TexelSource;
 use super::Footprint;
-use crate::lanes::{sum_lanes, CmpGt, CmpLt, F8, I8, LANES};
+use crate::lanes::{permute, permute_f, sum_lanes, CmpGt, CmpLt, F8, I8, LANES};
 use glam::Vec4;
 
 /// RGBA as four channel lanes.
@@ -40,31 +40,32 @@ pub fn trilinear8(levels: &[Rgba8Plane], s: F8, t: F8, fp: &[Footprint; LANES]) 
 
 /// One trilinear lookup at (s, t) (one period per unit, repeating), the level chosen by the longest pixel
 /// axis. The finer level's four bilinear taps sit on lanes 0-3, the coarser level's on lanes 4-7, each
-/// weighted by its share of the result; one pair of gathers reads all eight texels. Against the scalar
-/// `mip::trilinear` this is a quarter of the instructions, so more lookups' cache misses overlap.
+/// weighted by its share of the result; one pair of gathers reads all eight texels. The tap positions are
+/// worked out per axis first, on lanes (x, x + 1, y, y + 1) of each level, then paired up by two shuffles:
+/// half the arithmetic of working on the taps, so more lookups' cache misses overlap.
 pub fn trilinear_taps8(levels: &[Rgba8Plane], s: f32, t: f32, fp: &Footprint) -> Vec4 {
     let (fine, coarse, frac) = level_pair(fp.mip_level(levels[0].width(), levels[0].height()), levels.len());
     let (fine, coarse) = (&levels[fine], &levels[coarse]);
-    let halves = |a: usize, b: usize| {
-        let (a, b) = (a as i32, b as i32);
-        I8::new([a, a, a, a, b, b, b, b])
-    };
-    let (w, h) = (halves(fine.width, coarse.width), halves(fine.height, coarse.height));
-    let blocks = halves(fine.blocks_per_row(), coarse.blocks_per_row());
-    // Tap k of a level is texel (i + (k & 1), j + (k >> 1)) of its footprint.
-    let (di, dj) =
-        (F8::new([0.0, 1.0, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0]), F8::new([0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 1.0]));
+    let (fw, fh, cw, ch) = (fine.width as i32, fine.height as i32, coarse.width as i32, coarse.height as i32);
+    let size = I8::new([fw, fw, fh, fh, cw, cw, ch, ch]);
     let (s, t) = (s - s.floor(), t - t.floor());
-    let x = F8::splat(s) * w.round_float() - F8::splat(0.5);
-    let y = F8::splat(t) * h.round_float() - F8::splat(0.5);
-    let (xf, yf) = (x.floor(), y.floor());
-    let (fx, fy) = (x - xf, y - yf);
-    let (i, j) = (wrapped((xf + di).fast_trunc_int(), w), wrapped((yf + dj).fast_trunc_int(), h));
-    let index = Rgba8Plane::row_part8(j, blocks) + Rgba8Plane::column_part8(i);
+    let x = F8::new([s, s, t, t, s, s, t, t]) * size.round_float() - F8::splat(0.5);
+    let xf = x.floor();
+    // The second tap of each axis is one texel on.
+    let next = I8::new([0, 1, 0, 1, 0, 1, 0, 1]);
+    let k = wrapped(xf.fast_trunc_int() + next, size);
+    let (fb, cb) = (fine.blocks_per_row() as i32, coarse.blocks_per_row() as i32);
+    let blocks = I8::new([0, 0, fb, fb, 0, 0, cb, cb]);
+    let part = Rgba8Plane::parts8(k, blocks, I8::new([0, 0, -1, -1, 0, 0, -1, -1]));
+    // Tap k of a level is texel (x + (k & 1), y + (k >> 1)): its storage index is a column part plus a row part.
+    let (columns, rows) = (I8::new([0, 1, 0, 1, 4, 5, 4, 5]), I8::new([2, 2, 3, 3, 6, 6, 7, 7]));
+    let index = permute(part, columns) + permute(part, rows);
     let texels = Rgba8Plane::gather_split8(fine, coarse, index);
-    // The tent's weights: 1 - f for the first tap of an axis, f for the second.
-    let (wx, wy) = (fx.mul_add(di + di - F8::ONE, F8::ONE - di), fy.mul_add(dj + dj - F8::ONE, F8::ONE - dj));
-    let weight = wx * wy * F8::new([1.0 - frac, 1.0 - frac, 1.0 - frac, 1.0 - frac, frac, frac, frac, frac]);
+    // The tent's weights per axis (1 - f for the first tap, f for the second), the level's share on x.
+    let nextf = next.round_float();
+    let tent = (x - xf).mul_add(nextf + nextf - F8::ONE, F8::ONE - nextf)
+        * F8::new([1.0 - frac, 1.0 - frac, 1.0, 1.0, frac, frac, 1.0, 1.0]);
+    let weight = permute_f(tent, columns) * permute_f(tent, rows);
     Vec4::from(sum_lanes(texels.map(|c| c * weight)))
 }
 
