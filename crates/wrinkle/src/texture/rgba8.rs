@@ -336,4 +336,30 @@ mod tests {
         // A prefetch is a hint: outside the plane it does nothing (and does not panic).
         plane.prefetch(w + 3, h + 4);
     }
+
+    /// Gathers clamp each index into its own plane: below it reads the first texel, past it the last.
+    #[test]
+    fn gathers_read_the_nearest_end_for_indices_outside() {
+        let words = |n: usize, tag: u8| -> Vec<[u8; 4]> { (0..n).map(|k| [k as u8, tag, 0, 255]).collect() };
+        let (low, high) = (words(4 * 4, 1), words(8 * 4, 2));
+        let (low, high) = (Rgba8Plane::from_top_rows(4, 4, &low, false), Rgba8Plane::from_top_rows(8, 4, &high, false));
+        let (last_low, last_high) = (16 - 1, 32 - 1);
+        let index = I8::new([-5, 3, last_low, last_low + 9, -1, 7, last_high, 1 << 30]);
+        let got = Rgba8Plane::gather_split8(&low, &high, index);
+        let want = [0, 3, last_low, last_low, 0, 7, last_high, last_high]
+            .iter()
+            .enumerate()
+            .map(|(l, &k)| if l < 4 { low.word(k as usize) } else { high.word(k as usize) })
+            .collect::<Vec<_>>();
+        for (l, w) in want.iter().enumerate() {
+            let (tag, alpha) = ((w >> 8) & 0xFF, (w >> 24) as f32 / 255.0);
+            assert_eq!(got[1].as_array_ref()[l], tag as f32 / 255.0, "lane {l}");
+            assert_eq!(got[0].as_array_ref()[l], (w & 0xFF) as f32 / 255.0, "lane {l}");
+            assert_eq!(got[3].as_array_ref()[l], alpha, "lane {l}");
+        }
+        let one = low.gather8(I8::new([-1, 0, 15, 16, 99, -99, 5, 1 << 30])).map(|c| c.to_array());
+        for (l, k) in [0, 0, 15, 15, 15, 0, 5, 15].into_iter().enumerate() {
+            assert_eq!(one[0][l], (low.word(k) & 0xFF) as f32 / 255.0, "lane {l}");
+        }
+    }
 }
