@@ -104,18 +104,9 @@ pub fn permute(v: I8, from: I8) -> I8 {
 /// `permute` for f32 lanes.
 #[inline]
 pub fn permute_f(v: F8, from: I8) -> F8 {
-    #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
-    // SAFETY: as in `permute`; `F8` and `__m256` are both eight f32.
-    unsafe {
-        use std::arch::x86_64::*;
-        let (v, from) = (std::mem::transmute::<F8, __m256>(v), std::mem::transmute::<I8, __m256i>(from));
-        std::mem::transmute::<__m256, F8>(_mm256_permutevar8x32_ps(v, from))
-    }
-    #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
-    {
-        let (v, from) = (v.to_array(), from.to_array());
-        F8::new(from.map(|k| v[(k & 7) as usize]))
-    }
+    // SAFETY: `F8` and `I8` are both eight 32-bit lanes and every bit pattern is valid in both, so the
+    // transmutes only rename; the shuffle moves lanes whole.
+    unsafe { std::mem::transmute::<I8, F8>(permute(std::mem::transmute::<F8, I8>(v), from)) }
 }
 
 /// Indices clamped into a slice of `len` elements.
@@ -277,6 +268,15 @@ impl Mul<V3> for V3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn permutes_take_each_lane_from_the_lane_named() {
+        let from = I8::new([7, 0, 3, 3, 1, 6, 2, 5]);
+        let v = I8::new([10, 11, 12, 13, 14, 15, 16, 17]);
+        assert_eq!(permute(v, from).to_array(), [17, 10, 13, 13, 11, 16, 12, 15]);
+        let f = F8::new([0.5, -1.0, 2.25, 3.0, f32::MAX, -0.0, 6.5, 7.0]);
+        assert_eq!(permute_f(f, from).to_array(), [7.0, 0.5, 3.0, 3.0, -1.0, 6.5, 2.25, -0.0]);
+    }
 
     #[test]
     fn lanes_agree_with_glam() {
