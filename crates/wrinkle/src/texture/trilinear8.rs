@@ -49,21 +49,22 @@ pub fn trilinear_taps8(levels: &[Rgba8Plane], s: f32, t: f32, fp: &Footprint) ->
     let (fw, fh, cw, ch) = (fine.width as i32, fine.height as i32, coarse.width as i32, coarse.height as i32);
     let size = I8::new([fw, fw, fh, fh, cw, cw, ch, ch]);
     let (s, t) = (s - s.floor(), t - t.floor());
-    let x = F8::new([s, s, t, t, s, s, t, t]) * size.round_float() - F8::splat(0.5);
-    let xf = x.floor();
-    // The second tap of each axis is one texel on.
+    // Each lane's position along its axis, in texels of its level, and the texel column or row it reads:
+    // the second tap of each axis is one texel on.
+    let pos = F8::new([s, s, t, t, s, s, t, t]) * size.round_float() - F8::splat(0.5);
+    let floor = pos.floor();
     let next = I8::new([0, 1, 0, 1, 0, 1, 0, 1]);
-    let k = wrapped(xf.fast_trunc_int() + next, size);
+    let texel = wrapped(floor.fast_trunc_int() + next, size);
     let (fb, cb) = (fine.blocks_per_row() as i32, coarse.blocks_per_row() as i32);
     let blocks = I8::new([0, 0, fb, fb, 0, 0, cb, cb]);
-    let part = Rgba8Plane::parts8(k, blocks, I8::new([0, 0, -1, -1, 0, 0, -1, -1]));
+    let part = Rgba8Plane::parts8(texel, blocks, I8::new([0, 0, -1, -1, 0, 0, -1, -1]));
     // Tap k of a level is texel (x + (k & 1), y + (k >> 1)): its storage index is a column part plus a row part.
     let (columns, rows) = (I8::new([0, 1, 0, 1, 4, 5, 4, 5]), I8::new([2, 2, 3, 3, 6, 6, 7, 7]));
     let index = permute(part, columns) + permute(part, rows);
     let texels = Rgba8Plane::gather_split8(fine, coarse, index);
     // The tent's weights per axis (1 - f for the first tap, f for the second), the level's share on x.
     let nextf = next.round_float();
-    let tent = (x - xf).mul_add(nextf + nextf - F8::ONE, F8::ONE - nextf)
+    let tent = (pos - floor).mul_add(nextf + nextf - F8::ONE, F8::ONE - nextf)
         * F8::new([1.0 - frac, 1.0 - frac, 1.0, 1.0, frac, frac, 1.0, 1.0]);
     let weight = permute_f(tent, columns) * permute_f(tent, rows);
     Vec4::from(sum_lanes(texels.map(|c| c * weight)))
