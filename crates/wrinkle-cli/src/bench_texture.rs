@@ -3,17 +3,17 @@
 //! and the time to build the MIP pyramid.
 
 use clap::Args;
-use glam::{Vec2, Vec4};
+use glam::{Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 use std::hint::black_box;
 use std::time::Instant;
 use wrinkle::image::color::srgb8_decode_table;
 use wrinkle::image::Image;
-use wrinkle::lanes::{F8, LANES};
+use wrinkle::lanes::{F8, LANES, V3};
 use wrinkle::texture::mip::build_levels;
 use wrinkle::texture::texel::Plane;
 use wrinkle::texture::{
-    Filter, FilterOptions, FilteredTexture, Footprint, MipFilter, SolidPoint, Texture, TextureOptions, Wrap,
+    Filter, FilterOptions, FilteredTexture, Footprint, LookupContext8, MipFilter, Texture, TextureOptions, Wrap,
 };
 use wrinkle::{Error, Result};
 
@@ -110,14 +110,16 @@ fn rate(tex: &FilteredTexture, set: &[Lookup], parallel: bool, rounds: usize) ->
     timed(set, parallel, rounds, run)
 }
 
-/// The same in packets of eight through `Texture::sample8`, as the renderer's packet shader calls it.
+/// The same in packets of eight through `Texture::eval8`, as the renderer's packet shader calls it.
 fn rate8(tex: &FilteredTexture, set: &[Lookup], parallel: bool, rounds: usize) -> (f64, Option<f64>) {
-    let solid = [SolidPoint::default(); LANES];
     let run = |chunk: &[Lookup]| {
         chunk.chunks_exact(LANES).fold(Vec4::ZERO, |acc, p| {
             let lane = |f: fn(&Lookup) -> f32| F8::new(std::array::from_fn(|i| f(&p[i])));
-            let fps = std::array::from_fn(|i| p[i].fp);
-            let [r, g, b, a] = tex.sample8(lane(|l| l.st.x), lane(|l| l.st.y), &fps, &solid);
+            let footprints = std::array::from_fn(|i| p[i].fp);
+            let z = V3::splat(Vec3::ZERO);
+            let uv = (lane(|l| l.st.x), lane(|l| l.st.y));
+            let ctx = LookupContext8::on_surface(z, z, z, uv, footprints, 0, [0; LANES]);
+            let [r, g, b, a] = tex.eval8(&ctx);
             acc + Vec4::new(r.reduce_add(), g.reduce_add(), b.reduce_add(), a.reduce_add())
         })
     };

@@ -3,18 +3,21 @@
 
 use crate::output::{format_of, write_outputs};
 use clap::Args;
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use std::path::PathBuf;
 use std::sync::Arc;
 use wrinkle::bump::schlag::light_direction;
-use wrinkle::bump::{BumpFormula, BumpTable, Interp};
-use wrinkle::geometry::{Surface, Transform};
+use wrinkle::bump::{BumpFormula, BumpMap, BumpSource, BumpTable};
+use wrinkle::geometry::{Shape, Surface, Transform};
 use wrinkle::image::io::{load_grey, load_rgba8};
+use wrinkle::light::Light;
+use wrinkle::mapping::{MappedTexture, Mapping};
 use wrinkle::raster::Projection;
 use wrinkle::render::{MAX_PIXELS, MAX_SIDE};
-use wrinkle::scene::{CameraDesc, Object, Shape};
-use wrinkle::shade::{Bump, BumpFilter, BumpSource, Light, Material, Phong};
-use wrinkle::texture::{FilteredTexture, TextureOptions};
+use wrinkle::scene::{CameraDesc, Object};
+use wrinkle::shade::{Material, Phong};
+use wrinkle::texture::reconstruct::Kernel;
+use wrinkle::texture::{Filter, FilterOptions, FilteredTexture, TextureOptions};
 use wrinkle::{render, Error, RenderOptions, Result, Scene};
 
 /// Bump-map a grey height image with Blinn's perturbation, through the renderer (a flat patch seen head-on)
@@ -90,17 +93,16 @@ pub fn scene(args: &BumpArgs, table: BumpTable, texture: Option<FilteredTexture>
     if args.ambient > 0.0 {
         lights.push(Light::Ambient { radiance: Vec3::splat(args.ambient) });
     }
-    let bump = Bump {
+    let bump = BumpMap {
         source: BumpSource::Table(Arc::new(table)),
         scale: args.scale,
-        repeat: Vec2::ONE,
-        interp: Interp::Bilinear,
+        mapping: Mapping::default(),
         formula: BumpFormula::Blinn,
-        filter: BumpFilter::None,
+        filter: FilterOptions { filter: Filter::Reconstruct(Kernel::Bilinear), ..FilterOptions::default() },
     };
     let material = Material {
         color: Vec3::ONE,
-        texture: texture.map(|t| Arc::new(t) as Arc<dyn wrinkle::texture::Texture>),
+        texture: texture.map(|t| MappedTexture { texture: Arc::new(t), mapping: Mapping::default() }),
         phong: Phong::new(args.specular, args.shininess),
         bump: Some(bump),
         specular_map: None,

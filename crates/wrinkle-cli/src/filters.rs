@@ -15,6 +15,7 @@ use std::time::Instant;
 use wrinkle::bump::generators::{glyph, text as text_image, TextParams};
 use wrinkle::image::color::{srgb_to_linear, SrgbEncoder};
 use wrinkle::image::{io, Image};
+use wrinkle::mapping::{MappedTexture, Mapping, UvTransform};
 use wrinkle::texture::{Filter, FilteredTexture, TextureOptions};
 use wrinkle::{render, Error, RenderOptions, Result, Scene};
 
@@ -110,13 +111,17 @@ fn classic_scene() -> Result<Scene> {
         let k = letters.get(x, y);
         rgba([0, 1, 2].map(|c| ink[c] * k + cream[c] * (1.0 - k)))
     });
-    let sphere = TextureOptions { repeat: Vec2::new(2.0, 5.0), ..TextureOptions::default() };
-    scene.materials[0].texture = Some(Arc::new(FilteredTexture::new(&lettered, sphere)));
+    let mapped = |texture: &Arc<FilteredTexture>, repeat: Vec2| MappedTexture {
+        texture: texture.clone(),
+        mapping: Mapping::uv(UvTransform::repeat(repeat)),
+    };
+    let sphere = Arc::new(FilteredTexture::new(&lettered, TextureOptions::default()));
+    scene.materials[0].texture = Some(mapped(&sphere, Vec2::new(2.0, 5.0)));
     let checks = Image::from_fn(64, 64, |x, y| if (x / 4 + y / 4) % 2 == 0 { rgba(red) } else { rgba(cream) });
-    let board = FilteredTexture::new(&checks, TextureOptions::default());
+    let board = Arc::new(FilteredTexture::new(&checks, TextureOptions::default()));
     for (k, (near, far, half)) in ROWS.into_iter().enumerate() {
         let repeat = Vec2::new(2.0 * half / PERIOD, (near - far) / PERIOD);
-        scene.materials[k + 1].texture = Some(Arc::new(board.with_repeat(repeat)));
+        scene.materials[k + 1].texture = Some(mapped(&board, repeat));
     }
     Ok(scene)
 }

@@ -5,8 +5,9 @@ use clap::builder::PossibleValuesParser;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
+use wrinkle::bump::function::filter_choices;
 use wrinkle::render::Aovs;
-use wrinkle::shade::BumpFilter;
+use wrinkle::texture::reconstruct::Kernel;
 use wrinkle::texture::Filter;
 use wrinkle::{render_with_progress, Error, RenderOptions, Result, Scene};
 
@@ -55,9 +56,9 @@ pub struct FrameArgs {
     /// Render without bump mapping.
     #[arg(long)]
     pub no_bump: bool,
-    /// Filter every bump function: none (full-resolution table), mip (MIP level from the pixel footprint),
-    /// or any texture filter (trilinear, ripmap, sat, aniso, ewa, ...).
-    #[arg(long, value_parser = PossibleValuesParser::new(BumpFilter::choices().into_iter().map(|(n, _)| n)))]
+    /// Filter every bump function: none (the full-resolution table, bilinear), mip (MIP level from the pixel
+    /// footprint: trilinear), or any texture filter (nearest, trilinear, ripmap, sat, aniso, ewa, ...).
+    #[arg(long, value_parser = PossibleValuesParser::new(filter_choices().into_iter().map(|(n, _)| n)))]
     pub bump_filter: Option<String>,
     /// Filter every colour texture with this filter instead of the scene's: nearest, bilinear, bicubic,
     /// gaussian, lanczos (magnification only), trilinear, ripmap, sat, aniso, ewa, ...
@@ -73,7 +74,7 @@ impl FrameArgs {
             height: self.height,
             spp: self.spp,
             bump: !self.no_bump,
-            bump_filter: self.bump_filter.as_deref().and_then(BumpFilter::parse),
+            bump_filter: self.bump_filter.as_deref().map(bump_filter),
             ..RenderOptions::default()
         };
         options.validate()?;
@@ -189,4 +190,10 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         b.finish();
     }
     Ok(())
+}
+
+/// A `--bump-filter` name as a filter: `none` is Blinn's bilinear FVAL on the full-resolution table.
+fn bump_filter(name: &str) -> Filter {
+    let chosen = filter_choices().into_iter().find(|(n, _)| *n == name).and_then(|(_, f)| f);
+    chosen.unwrap_or(Filter::Reconstruct(Kernel::Bilinear))
 }

@@ -8,6 +8,8 @@ pub mod error;
 pub mod geometry;
 pub mod image;
 pub mod lanes;
+pub mod light;
+pub mod mapping;
 pub mod procedural;
 pub mod raster;
 pub mod render;

@@ -11,7 +11,7 @@ use glam::DVec3;
 use std::f64::consts::TAU;
 use std::path::Path;
 use wrinkle::bump::blinn::perturbed_normal;
-use wrinkle::bump::{BumpFormula, BumpTable, Interp, Perturbation};
+use wrinkle::bump::{BumpFormula, BumpTable, Gradient, Interp};
 use wrinkle::geometry::Surface;
 use wrinkle::image::{io::write_png_grey16, Image};
 
@@ -279,7 +279,7 @@ fn sphere_blinn_error_shrinks_with_amplitude_and_full_formula_is_exact() {
         let (mut blinn, mut full, mut tilt) = (MaxErr::default(), MaxErr::default(), 0.0f64);
         for &(u, v) in &pts {
             let (u64_, v64_) = (u as f64, v as f64);
-            let pert = Perturbation {
+            let pert = Gradient {
                 f: f(u64_, v64_) as f32,
                 fu: (a * 4.0 * TAU * (4.0 * TAU * u64_).cos() * (2.0 * TAU * v64_).sin()) as f32,
                 fv: (a * 2.0 * TAU * (4.0 * TAU * u64_).sin() * (2.0 * TAU * v64_).cos()) as f32,
@@ -339,7 +339,7 @@ fn sphere_full_formula_through_a_table_is_within_the_central_difference_error() 
             let (u64_, v64_) = (u as f64, v as f64);
             let b = table.sample(u, v, Interp::Bilinear, 0.0);
             let k = (2.0 * a) as f32;
-            let pert = Perturbation { f: k * b.f, fu: k * b.fs, fv: k * b.ft };
+            let pert = Gradient { f: k * b.f, fu: k * b.fu, fv: k * b.fv };
             let got = v64(perturbed_normal(&sphere.frame(u, v), pert, BumpFormula::Full));
             let truth = displaced_sphere_normal(1.0, u64_, v64_, &f);
             table_err.add(angle_deg(got, truth), || format!("({u},{v})"));
@@ -368,7 +368,7 @@ fn sphere_full_formula_through_a_table_is_within_the_central_difference_error() 
 // ---------------------------------------------------------------------------------------------
 
 /// tan theta = |N' - N| / |N| with N = Pu x Pv, as the paper measures the tilt.
-fn tan_theta(s: &Surface, u: f32, v: f32, p: Perturbation, formula: BumpFormula) -> f64 {
+fn tan_theta(s: &Surface, u: f32, v: f32, p: Gradient, formula: BumpFormula) -> f64 {
     let frame = s.frame(u, v);
     let n = v64(frame.pu.cross(frame.pv));
     (v64(perturbed_normal(&frame, p, formula)) - n).length() / n.length()
@@ -397,7 +397,7 @@ fn scaling_by_two_halves_blinns_tilt_and_keeps_the_invariant_one() {
             for i in 0..9 {
                 let (u, v) = ((i as f32 + 0.4) / 9.0, j as f32 / 8.0);
                 for &(fu, fv, f) in &perts {
-                    let p = Perturbation { f, fu, fv };
+                    let p = Gradient { f, fu, fv };
                     let (b1, b2) =
                         (tan_theta(one, u, v, p, BumpFormula::Blinn), tan_theta(two, u, v, p, BumpFormula::Blinn));
                     let (i1, i2) = (

@@ -108,7 +108,7 @@ fn coverage(camera: &Camera, mesh: &Mesh, object_to_world: Affine3A, cull: bool,
     let mut setup = TriangleSetup::new(camera);
     let vertices = setup.project_vertices(&mesh.positions, &mesh.uvs, &(camera.world_to_camera * object_to_world));
     let cull = if cull { Cull::FacingAway { mirrored: false } } else { Cull::Nothing };
-    setup.add_triangles(&vertices, &mesh.triangles, 0, cull);
+    setup.add_triangles(&vertices, &mesh.triangles, 0, 0, cull);
     let pattern = SamplePattern::new(spp).expect("spp 1, 4 or 16");
     let mut count = vec![0u16; w * h * spp];
     for t in &setup.triangles {

@@ -7,6 +7,8 @@
 //! The full formula keeps every term: P'u = Pu + Fu N^ + F N^u, P'v = Pv + Fv N^ + F N^v, N' = P'u x P'v,
 //! the exact normal of the displaced surface.
 
+use super::Gradient;
+use crate::geometry::frame_lanes::Frame8;
 use crate::geometry::SurfaceFrame;
 use crate::lanes::{F8, V3};
 use glam::Vec3;
@@ -20,14 +22,6 @@ pub enum BumpFormula {
     Invariant,
     /// The exact normal of P + F N^, with N^u and N^v from the surface's second derivatives.
     Full,
-}
-
-/// F and its derivatives with respect to the surface parameters u and v.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Perturbation {
-    pub f: f32,
-    pub fu: f32,
-    pub fv: f32,
 }
 
 /// Blinn's D = (Fu (N x Pv) - Fv (N x Pu)) / |N|.
@@ -44,7 +38,7 @@ pub fn blinn_d8(n: V3, pu: V3, pv: V3, fu: F8, fv: F8) -> V3 {
 
 /// The perturbed (unnormalised) normal N' at a surface frame.
 #[inline]
-pub fn perturbed_normal(frame: &SurfaceFrame, bump: Perturbation, formula: BumpFormula) -> Vec3 {
+pub fn perturbed_normal(frame: &SurfaceFrame, bump: Gradient, formula: BumpFormula) -> Vec3 {
     let n = frame.pu.cross(frame.pv);
     match formula {
         BumpFormula::Blinn => n + blinn_d(n, frame.pu, frame.pv, bump.fu, bump.fv),
@@ -61,6 +55,20 @@ pub fn perturbed_normal(frame: &SurfaceFrame, bump: Perturbation, formula: BumpF
     }
 }
 
+/// `perturbed_normal` on eight lanes: Blinn's N + D on the lanes, the other formulas lane by lane.
+#[inline]
+pub fn perturbed_normal8(frame: &Frame8, g: [F8; 3], formula: BumpFormula) -> V3 {
+    let [f, fu, fv] = g;
+    let n = frame.pu.cross(frame.pv);
+    match formula {
+        BumpFormula::Blinn => n + blinn_d8(n, frame.pu, frame.pv, fu, fv),
+        formula => V3::from_lanes(&std::array::from_fn(|i| {
+            let lane = |x: F8| x.as_array_ref()[i];
+            perturbed_normal(&frame.lane(i), Gradient { f: lane(f), fu: lane(fu), fv: lane(fv) }, formula)
+        })),
+    }
+}
+
 /// The derivatives of the unit normal N^ = N/|N| along u and v, from the second derivatives of P.
 pub fn unit_normal_derivatives(frame: &SurfaceFrame) -> (Vec3, Vec3) {
     let n = frame.pu.cross(frame.pv);
@@ -73,7 +81,7 @@ pub fn unit_normal_derivatives(frame: &SurfaceFrame) -> (Vec3, Vec3) {
 }
 
 /// The exact normal of the displaced surface P + F N^ (Blinn's expansion before the approximation).
-pub fn full_normal(frame: &SurfaceFrame, bump: Perturbation) -> Vec3 {
+pub fn full_normal(frame: &SurfaceFrame, bump: Gradient) -> Vec3 {
     let nh = frame.pu.cross(frame.pv).normalize();
     let (nhu, nhv) = unit_normal_derivatives(frame);
     let pu = frame.pu + bump.fu * nh + bump.f * nhu;
@@ -91,7 +99,7 @@ mod tests {
         // Section 4: X = u, Y = v, Z = 0 gives N = (0,0,1), D = (-Fu, -Fv, 0), tan theta = sqrt(Fu^2 + Fv^2).
         let patch = Surface::Patch { corners: [Vec3::ZERO, Vec3::X, Vec3::X + Vec3::Y, Vec3::Y] };
         let f = patch.frame(0.3, 0.6);
-        let b = Perturbation { f: 0.2, fu: 0.3, fv: -0.4 };
+        let b = Gradient { f: 0.2, fu: 0.3, fv: -0.4 };
         let n = f.pu.cross(f.pv);
         assert_eq!(n, Vec3::Z);
         let d = blinn_d(n, f.pu, f.pv, b.fu, b.fv);
@@ -125,7 +133,7 @@ mod tests {
     fn invariant_tilt_is_a() {
         let s = Surface::Sphere { radius: 3.0 };
         let f = s.frame(0.4, 0.55);
-        let b = Perturbation { f: 0.0, fu: 0.7, fv: 0.2 };
+        let b = Gradient { f: 0.0, fu: 0.7, fv: 0.2 };
         let n = f.pu.cross(f.pv);
         let np = perturbed_normal(&f, b, BumpFormula::Invariant);
         let tan = (np - n).length() / n.length();

@@ -1,12 +1,23 @@
-//! Blinn's bump mapping (1978): the perturbed normal N' = N + D, bump functions as tables,
-//! and the generators of the paper's figures.
+//! Blinn's bump mapping (1978): the perturbed normal N' = N + D, bump functions as tables or procedures
+//! and their evaluation at a sample (function.rs), and the generators of the paper's figures.
 
 pub mod blinn;
+pub mod function;
 pub mod generators;
 pub mod integrate;
 pub mod normal_map;
 pub mod schlag;
 pub mod table;
 
-pub use blinn::{BumpFormula, Perturbation};
-pub use table::{BumpSample, BumpTable, Interp};
+pub use blinn::BumpFormula;
+pub use function::{BumpMap, BumpSource};
+pub use table::{BumpTable, Interp};
+
+/// A bump function's value F and its derivatives along the two coordinates it was evaluated over: the
+/// table's (s,t) for a table lookup, the surface's (u,v) once a bump map has applied its chain rule.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Gradient {
+    pub f: f32,
+    pub fu: f32,
+    pub fv: f32,
+}

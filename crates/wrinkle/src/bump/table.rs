@@ -13,10 +13,12 @@
 //! convention). Blinn's FORTRAN bilinear FVAL puts table entries at the cell corners i/W instead: the same
 //! function shifted by half a step, which we do not copy so that nearest and bilinear agree at texel centres.
 
+use super::Gradient;
 use crate::image::GreyImage;
 use crate::lanes::{gather, CmpEq, CmpGe, CmpGt, F8, I8, LANES};
-use crate::texture::filter::{FilterOptions, Filterable};
-use crate::texture::mip::{MipFilter, Resample};
+use crate::texture::filter::{Filter, FilterOptions, Filterable};
+use crate::texture::mip::{LevelRule, MipFilter, Resample};
+use crate::texture::reconstruct::Kernel;
 use crate::texture::texel::{Plane, TexelSource};
 use crate::texture::{bilinear_taps, wrap01, Footprint, Wrap};
 use glam::Vec3;
@@ -28,14 +30,6 @@ pub enum Interp {
     Nearest,
     /// Blinn's second FVAL: bilinear interpolation.
     Bilinear,
-}
-
-/// F and its derivatives with respect to the table coordinates (s,t), one period per unit.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct BumpSample {
-    pub f: f32,
-    pub fs: f32,
-    pub ft: f32,
 }
 
 /// One level of the table, T only (row 0 at the bottom, t near 0). As a texel source for the texture
@@ -77,7 +71,7 @@ impl BumpTable {
     /// F, Fs, Ft at (s,t). `level` selects the MIP level (fractional: linear between two levels);
     /// 0 is the full-resolution table, where E is one step of the table.
     #[inline]
-    pub fn sample(&self, s: f32, t: f32, interp: Interp, level: f32) -> BumpSample {
+    pub fn sample(&self, s: f32, t: f32, interp: Interp, level: f32) -> Gradient {
         let levels = self.data.levels();
         let last = (levels.len() - 1) as f32;
         let level = level.clamp(0.0, last);
@@ -90,7 +84,7 @@ impl BumpTable {
                 v[k] += frac * (v1[k] - v[k]);
             }
         }
-        BumpSample { f: v[0], fs: v[1], ft: v[2] }
+        Gradient { f: v[0], fu: v[1], fv: v[2] }
     }
 
     /// `sample` at eight (s,t) on one level (0 for an unfiltered table): (F, Fs, Ft) per lane. Bilinear
@@ -109,11 +103,40 @@ impl BumpTable {
         }
     }
 
+    /// F, Fs, Ft at (s,t) through the filter of `opts`, `fp` the footprint in (s,t) units. Blinn's two FVALs
+    /// (nearest and bilinear on the full table) and the trilinear MIP filter of section 5 read the table
+    /// directly; every other filter goes through the texture filters.
+    #[inline]
+    pub fn lookup(&self, s: f32, t: f32, fp: &Footprint, opts: &FilterOptions) -> Gradient {
+        match opts.filter {
+            Filter::Reconstruct(Kernel::Nearest) => self.sample(s, t, Interp::Nearest, 0.0),
+            Filter::Reconstruct(Kernel::Bilinear) => self.sample(s, t, Interp::Bilinear, 0.0),
+            Filter::Trilinear if opts.level_rule == LevelRule::Longest => {
+                self.sample(s, t, Interp::Bilinear, fp.mip_level(self.width(), self.height()))
+            }
+            _ => self.filtered(s, t, fp, opts),
+        }
+    }
+
+    /// `lookup` at eight (s,t): the full-table FVALs on the lanes, every other filter lane by lane.
+    #[inline]
+    pub fn lookup8(&self, s: F8, t: F8, fps: &[Footprint; LANES], opts: &FilterOptions) -> [F8; 3] {
+        match opts.filter {
+            Filter::Reconstruct(Kernel::Nearest) => self.sample8(s, t, Interp::Nearest, 0),
+            Filter::Reconstruct(Kernel::Bilinear) => self.sample8(s, t, Interp::Bilinear, 0),
+            _ => {
+                let (s, t) = (s.as_array_ref(), t.as_array_ref());
+                let g: [Gradient; LANES] = std::array::from_fn(|i| self.lookup(s[i], t[i], &fps[i], opts));
+                [F8::new(g.map(|g| g.f)), F8::new(g.map(|g| g.fu)), F8::new(g.map(|g| g.fv))]
+            }
+        }
+    }
+
     /// F, Fs, Ft at (s,t) through any texture filter, `fp` the footprint in (s,t) units.
     #[inline]
-    pub fn filtered(&self, s: f32, t: f32, fp: &Footprint, opts: &FilterOptions) -> BumpSample {
+    pub fn filtered(&self, s: f32, t: f32, fp: &Footprint, opts: &FilterOptions) -> Gradient {
         let v = self.data.sample(opts, Vec3::ZERO, s, t, fp);
-        BumpSample { f: v.x, fs: v.y, ft: v.z }
+        Gradient { f: v.x, fu: v.y, fv: v.z }
     }
 }
 
@@ -293,8 +316,8 @@ mod tests {
                 let got = t.sample(s, tt, interp, 0.0);
                 let fs = (t.fval(s + es, tt, interp) - t.fval(s - es, tt, interp)) / (2.0 * es);
                 let ft = (t.fval(s, tt + et, interp) - t.fval(s, tt - et, interp)) / (2.0 * et);
-                assert!((got.fs - fs).abs() < 1e-4, "{interp:?} fs {} vs {fs}", got.fs);
-                assert!((got.ft - ft).abs() < 1e-4, "{interp:?} ft {} vs {ft}", got.ft);
+                assert!((got.fu - fs).abs() < 1e-4, "{interp:?} fs {} vs {fs}", got.fu);
+                assert!((got.fv - ft).abs() < 1e-4, "{interp:?} ft {} vs {ft}", got.fv);
                 assert!((got.f - t.fval(s, tt, interp)).abs() < 1e-6);
             }
         }
@@ -312,14 +335,14 @@ mod tests {
             let want = t.sample(s, tt, Interp::Bilinear, 0.0);
             let got = t.filtered(s, tt, &Footprint::default(), &opts("bilinear"));
             assert!(
-                (got.f - want.f).abs() < 1e-5 && (got.fs - want.fs).abs() < 1e-3 && (got.ft - want.ft).abs() < 1e-3
+                (got.f - want.f).abs() < 1e-5 && (got.fu - want.fu).abs() < 1e-3 && (got.fv - want.fv).abs() < 1e-3
             );
             // A footprint of 2.5 texels: level log2(2.5) of the pyramid.
             let fp = Footprint { dudx: 2.5 / 32.0, dvdx: 0.0, dudy: 0.0, dvdy: 1.0 / 16.0 };
             let want = t.sample(s, tt, Interp::Bilinear, 2.5f32.log2());
             let got = t.filtered(s, tt, &fp, &opts("trilinear"));
             assert!(
-                (got.f - want.f).abs() < 1e-5 && (got.fs - want.fs).abs() < 1e-3 && (got.ft - want.ft).abs() < 1e-3
+                (got.f - want.f).abs() < 1e-5 && (got.fu - want.fu).abs() < 1e-3 && (got.fv - want.fv).abs() < 1e-3
             );
             // EWA of the derivatives is the derivative of the EWA: close to trilinear's on this smooth scale.
             let ewa = t.filtered(s, tt, &fp, &opts("ewa"));
@@ -339,7 +362,7 @@ mod tests {
                 for i in 0..LANES {
                     let one = table.sample(s.as_array_ref()[i], t.as_array_ref()[i], interp, level as f32);
                     let got = [0, 1, 2].map(|k| lanes[k].as_array_ref()[i]);
-                    let want = [one.f, one.fs, one.ft];
+                    let want = [one.f, one.fu, one.fv];
                     for k in 0..3 {
                         assert!(
                             (got[k] - want[k]).abs() <= 1e-4 * (1.0 + want[k].abs()),

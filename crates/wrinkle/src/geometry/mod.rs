@@ -1,10 +1,13 @@
-//! Geometry: parametric surfaces evaluated exactly, object transforms, and tessellation into triangles
-//! that carry (u,v) so the rasterizer can find which (u,v) lands in each pixel.
+//! Geometry: shapes and the primitives they are made of, parametric surfaces evaluated exactly, object
+//! transforms, and tessellation into triangles that carry (u,v) so the rasterizer can find which (u,v)
+//! lands in each pixel.
 
 pub mod frame_lanes;
+pub mod shape;
 pub mod surface;
 pub mod tessellate;
 pub mod transform;
 
+pub use shape::{Instance, Primitive, Shape};
 pub use surface::{Surface, SurfaceFrame};
 pub use transform::Transform;

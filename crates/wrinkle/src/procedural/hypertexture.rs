@@ -11,6 +11,7 @@ use super::bias_gain::{bias, gain};
 use super::effects::spline;
 use super::fbm::{Fractal, Octaves, Sum};
 use super::perlin::{NoiseD, Perlin, Variant, LANES};
+use crate::light::Light;
 use glam::Vec3;
 
 /// One density modulation function.
@@ -49,16 +50,6 @@ pub struct Hypertexture {
     pub step: f32,
     pub modulations: Vec<Modulation>,
     pub shading: Shading,
-}
-
-/// The lights as the volume sees them (without shadows inside the volume).
-pub enum VolumeLight {
-    /// Light arriving from `to_light` (unit, towards the light).
-    Directional { to_light: Vec3, radiance: Vec3 },
-    /// A point light, falling off with the square of the distance.
-    Point { position: Vec3, radiance: Vec3 },
-    /// Light from everywhere.
-    Ambient { radiance: Vec3 },
 }
 
 impl Modulation {
@@ -171,7 +162,7 @@ impl Hypertexture {
 
     /// Marches the ray up to `t_max` (the opaque surface's distance; infinity for the background) and
     /// composites the volume over `behind`: front to back, C += T a c, T *= 1 - a with a = 1 - exp(-density H dt).
-    pub fn composite(&self, origin: Vec3, dir: Vec3, t_max: f32, behind: Vec3, lights: &[VolumeLight]) -> Vec3 {
+    pub fn composite(&self, origin: Vec3, dir: Vec3, t_max: f32, behind: Vec3, lights: &[Light]) -> Vec3 {
         let Some((t0, t1)) = self.span(origin, dir) else { return behind };
         let end = t1.min(t_max);
         if end <= t0 {
@@ -204,7 +195,7 @@ impl Hypertexture {
         color + transmit * behind
     }
 
-    fn radiance(&self, x: Vec3, h: &NoiseD, dir: Vec3, lights: &[VolumeLight]) -> Vec3 {
+    fn radiance(&self, x: Vec3, h: &NoiseD, dir: Vec3, lights: &[Light]) -> Vec3 {
         match &self.shading {
             Shading::Emissive { colors, emission } => Vec3::from_array(spline(colors, h.value)) * *emission,
             Shading::Lit { albedo } => {
@@ -214,13 +205,13 @@ impl Hypertexture {
                 let mut c = Vec3::ZERO;
                 for l in lights {
                     c += match *l {
-                        VolumeLight::Directional { to_light, radiance } => radiance * n.dot(to_light).max(0.0),
-                        VolumeLight::Point { position, radiance } => {
+                        Light::Directional { direction, radiance } => radiance * n.dot(-direction).max(0.0),
+                        Light::Point { position, radiance } => {
                             let d = position - x;
                             let d2 = d.length_squared().max(1e-12);
                             radiance / d2 * n.dot(d / d2.sqrt()).max(0.0)
                         }
-                        VolumeLight::Ambient { radiance } => radiance,
+                        Light::Ambient { radiance } => radiance,
                     };
                 }
                 *albedo * c

@@ -4,9 +4,9 @@
 
 use super::effects::{spline, Pattern};
 use super::perlin::NoiseD;
-use crate::geometry::SurfaceFrame;
-use crate::texture::{Footprint, SolidPoint, Texture};
-use glam::{Vec2, Vec3, Vec4};
+use crate::lanes::{F8, LANES};
+use crate::texture::{lane_by_lane, Footprint, LookupContext, LookupContext8, Texture};
+use glam::{Vec3, Vec4};
 
 /// Where a pattern is evaluated.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -30,49 +30,41 @@ fn uv_width(fp: &Footprint) -> f32 {
 }
 
 impl Procedural {
-    /// t and its gradient with respect to the lookup point, for a sample at `uv` (or `solid`).
-    fn eval_d(&self, uv: Vec2, footprint: &Footprint, solid: &SolidPoint) -> NoiseD {
+    /// The point the pattern is evaluated at and the pixel's size there.
+    #[inline]
+    fn point(&self, ctx: &LookupContext) -> ([f32; 3], f32) {
         match self.space {
-            Space::Object => self.pattern.eval_d(solid.p.to_array(), solid.width),
-            Space::Uv => self.pattern.eval_d([uv.x, uv.y, 0.0], uv_width(footprint)),
+            Space::Object => (ctx.p.to_array(), ctx.pixel_width()),
+            Space::Uv => ([ctx.uv.x, ctx.uv.y, 0.0], uv_width(&ctx.footprint)),
         }
     }
 
-    /// The bump function F = amplitude t and its derivatives Fu, Fv from the pattern's analytic gradient:
-    /// in object space by the chain rule through the surface, Fu = grad t . Pu, Fv = grad t . Pv.
-    pub fn bump(&self, amplitude: f32, uv: Vec2, frame: &SurfaceFrame, footprint: &Footprint) -> NoiseD {
-        let solid = solid_point(frame, footprint);
-        let t = self.eval_d(uv, footprint, &solid);
-        let g = Vec3::from_array(t.grad);
-        let (fu, fv) = match self.space {
-            Space::Object => (g.dot(frame.pu), g.dot(frame.pv)),
-            Space::Uv => (g.x, g.y),
-        };
-        NoiseD { value: amplitude * t.value, grad: [amplitude * fu, amplitude * fv, 0.0] }
+    /// t and its gradient with respect to the lookup point (the object-space point, or (u, v, 0)).
+    pub fn eval_d(&self, ctx: &LookupContext) -> NoiseD {
+        let (p, width) = self.point(ctx);
+        self.pattern.eval_d(p, width)
     }
-}
 
-/// The object-space point of a sample and its pixel's size there: the square root of the area spanned by
-/// dP/dx = Pu du/dx + Pv dv/dx and dP/dy.
-pub fn solid_point(frame: &SurfaceFrame, fp: &Footprint) -> SolidPoint {
-    let dx = frame.pu * fp.dudx + frame.pv * fp.dvdx;
-    let dy = frame.pu * fp.dudy + frame.pv * fp.dvdy;
-    SolidPoint { p: frame.p, width: dx.cross(dy).length().sqrt() }
+    fn color(&self, p: [f32; 3], width: f32) -> Vec4 {
+        Vec3::from_array(spline(&self.pattern.params.colors, self.pattern.eval(p, width))).extend(1.0)
+    }
 }
 
 impl Texture for Procedural {
-    fn sample(&self, uv: Vec2, footprint: &Footprint) -> Vec4 {
-        // Without a surface point, a solid texture is read on the plane z = 0 at (u, v).
-        let solid = SolidPoint { p: Vec3::new(uv.x, uv.y, 0.0), width: uv_width(footprint) };
-        self.sample_at(uv, footprint, &solid)
+    fn eval(&self, ctx: &LookupContext) -> Vec4 {
+        let (p, width) = self.point(ctx);
+        self.color(p, width)
     }
 
-    fn sample_at(&self, uv: Vec2, footprint: &Footprint, solid: &SolidPoint) -> Vec4 {
-        let t = match self.space {
-            Space::Object => self.pattern.eval(solid.p.to_array(), solid.width),
-            Space::Uv => self.pattern.eval([uv.x, uv.y, 0.0], uv_width(footprint)),
-        };
-        Vec3::from_array(spline(&self.pattern.params.colors, t)).extend(1.0)
+    /// The pixel sizes of a solid texture on the lanes, then the pattern lane by lane.
+    fn eval8(&self, ctx: &LookupContext8) -> [F8; 4] {
+        if self.space == Space::Uv {
+            return lane_by_lane(self, ctx);
+        }
+        let widths = ctx.pixel_widths();
+        let texels: [Vec4; LANES] =
+            std::array::from_fn(|i| self.color(ctx.p.lane(i).to_array(), widths.as_array_ref()[i]));
+        std::array::from_fn(|c| F8::new(texels.map(|t| t[c])))
     }
 }
 
@@ -81,6 +73,7 @@ mod tests {
     use super::super::effects::{Kind, Params};
     use super::*;
     use crate::geometry::Surface;
+    use glam::Vec2;
 
     #[test]
     fn solid_texture_reads_the_object_point_not_the_parameters() {
@@ -92,29 +85,10 @@ mod tests {
         let fp = Footprint::default();
         let (a, b) = (Vec2::new(0.1, 0.9999), Vec2::new(0.6, 0.9999));
         let (fa, fb) = (sphere.frame(a.x, a.y), sphere.frame(b.x, b.y));
-        let ca = tex.sample_at(a, &fp, &solid_point(&fa, &fp));
-        let cb = tex.sample_at(b, &fp, &solid_point(&fb, &fp));
+        let ca = tex.eval(&LookupContext::on_surface(fa.p, fa.pu, fa.pv, a, fp));
+        let cb = tex.eval(&LookupContext::on_surface(fb.p, fb.pu, fb.pv, b, fp));
         assert!((ca - cb).length() < 0.02, "{ca} vs {cb}");
         let direct = spline(&pattern.params.colors, pattern.eval(fa.p.to_array(), 0.0));
         assert!((ca.truncate() - Vec3::from_array(direct)).length() < 1e-6);
-    }
-
-    #[test]
-    fn bump_derivatives_follow_the_surface() {
-        // Fu, Fv from the analytic gradient against differences of F along the surface's parameters.
-        let pattern = Pattern::new(Params::new(Kind::Fbm), 3, false).unwrap();
-        let bump = Procedural { pattern, space: Space::Object };
-        let torus = Surface::Torus { major_radius: 1.0, minor_radius: 0.3 };
-        let fp = Footprint::default();
-        for i in 0..50 {
-            let (u, v) = (0.013 + 0.019 * i as f32, 0.7 - 0.011 * i as f32);
-            let b = bump.bump(0.1, Vec2::new(u, v), &torus.frame(u, v), &fp);
-            let f = |u: f32, v: f32| bump.bump(0.1, Vec2::new(u, v), &torus.frame(u, v), &fp).value as f64;
-            let h = 1e-4;
-            let fu = (f(u + h, v) - f(u - h, v)) / (2.0 * h as f64);
-            let fv = (f(u, v + h) - f(u, v - h)) / (2.0 * h as f64);
-            assert!((b.grad[0] as f64 - fu).abs() < 2e-2 * (1.0 + fu.abs()), "Fu {} vs {fu}", b.grad[0]);
-            assert!((b.grad[1] as f64 - fv).abs() < 2e-2 * (1.0 + fv.abs()), "Fv {} vs {fv}", b.grad[1]);
-        }
     }
 }

@@ -72,6 +72,15 @@ pub struct ScreenTriangle {
     pub uv: [Vec2; 3],
     /// The surface (one parametric surface of one object) the triangle belongs to.
     pub surface: u32,
+    /// The index within its object of the triangle it was set up from (clipped pieces share it).
+    pub triangle: u32,
+}
+
+/// Which surface a triangle belongs to, and its number within its object.
+#[derive(Clone, Copy)]
+struct TriangleId {
+    surface: u32,
+    triangle: u32,
 }
 
 /// Everything interpolated at eight screen positions (x, y), lane i on triangle `tris[i]`: perspective-correct
@@ -161,27 +170,35 @@ impl<'a> TriangleSetup<'a> {
         ProjectedVertex { clip, fixed, q, inside }
     }
 
-    /// Adds the triangles of a projected mesh, all of surface `surface`.
-    /// `cull` says which triangles to drop by the way they face.
-    pub fn add_triangles(&mut self, vertices: &[ProjectedVertex], triangles: &[[u32; 3]], surface: u32, cull: Cull) {
+    /// Adds the triangles of a projected mesh, all of surface `surface`, the first of them numbered `first`
+    /// within its object. `cull` says which triangles to drop by the way they face.
+    pub fn add_triangles(
+        &mut self,
+        vertices: &[ProjectedVertex],
+        triangles: &[[u32; 3]],
+        surface: u32,
+        first: u32,
+        cull: Cull,
+    ) {
         self.triangles.reserve(triangles.len());
-        for t in triangles {
+        for (k, t) in triangles.iter().enumerate() {
+            let id = TriangleId { surface, triangle: first + k as u32 };
             let tri = t.map(|k| vertices[k as usize]);
             if tri.iter().all(|v| v.inside) {
-                self.add_triangle(&tri, surface, cull);
+                self.add_triangle(&tri, id, cull);
             } else {
                 let mut poly = std::mem::take(&mut self.polygon);
                 clip_polygon(&self.planes, &tri.map(|v| v.clip), &mut poly);
                 for k in 1..poly.len().saturating_sub(1) {
                     let piece = [poly[0], poly[k], poly[k + 1]].map(|c| self.project(c));
-                    self.add_triangle(&piece, surface, cull);
+                    self.add_triangle(&piece, id, cull);
                 }
                 self.polygon = poly;
             }
         }
     }
 
-    fn add_triangle(&mut self, tri: &[ProjectedVertex; 3], surface: u32, cull: Cull) {
+    fn add_triangle(&mut self, tri: &[ProjectedVertex; 3], id: TriangleId, cull: Cull) {
         let cam = self.camera;
         let fixed = tri.map(|v| v.fixed);
         let area = edge_at(fixed[0], fixed[1], fixed[2]);
@@ -233,7 +250,8 @@ impl<'a> TriangleSetup<'a> {
             b1: basis.plane([0.0, q[1], 0.0]),
             b2: basis.plane([0.0, 0.0, q[2]]),
             uv: order.map(|k| tri[k].clip.uv),
-            surface,
+            surface: id.surface,
+            triangle: id.triangle,
         });
     }
 }

@@ -6,17 +6,19 @@ mod frame;
 pub use frame::{Aovs, Frame, Stats};
 
 use crate::geometry::tessellate::{grid, segments_for, Mesh};
+use crate::geometry::Instance;
 use crate::lanes::{F8, LANES};
-use crate::procedural::hypertexture::{Hypertexture, VolumeLight};
+use crate::light::Light;
+use crate::procedural::hypertexture::Hypertexture;
 use crate::raster::refine::refine_uv8;
 use crate::raster::setup::ProjectedVertex;
 use crate::raster::visibility::EMPTY;
 use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
 use crate::scene::Scene;
-use crate::shade::{BumpFilter, Light, ShadeContext, ShadedSample, SurfaceInstance};
-use crate::texture::Footprint;
+use crate::shade::{ShadeContext, ShadedSample};
+use crate::texture::{Filter, Footprint};
 use crate::{Error, Result};
-use glam::{Affine3A, Mat3, Quat, Vec2, Vec3};
+use glam::{Affine3A, Quat, Vec2, Vec3};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
@@ -41,7 +43,7 @@ pub struct RenderOptions {
     pub spp: usize,
     pub bump: bool,
     /// Replaces every material's bump filter when set.
-    pub bump_filter: Option<BumpFilter>,
+    pub bump_filter: Option<Filter>,
     /// Rotation of every object about the vertical axis through the camera's target, degrees (turntables).
     pub turntable_degrees: f32,
     /// Which per-pixel AOVs to keep.
@@ -107,10 +109,10 @@ pub fn render_with_progress(
     let meshes: Vec<Mesh> = instances
         .par_iter()
         .map(|inst| {
-            let (nu, nv) = segments_for(&inst.surface, SEGMENT_PX, SAG_PX, |p| {
+            let (nu, nv) = segments_for(inst.surface(), SEGMENT_PX, SAG_PX, |p| {
                 camera.pixels_per_unit(inst.object_to_world.transform_point3(p))
             });
-            grid(&inst.surface, nu, nv)
+            grid(inst.surface(), nu, nv)
         })
         .collect();
     let max_steps: Vec<Vec2> =
@@ -155,7 +157,7 @@ pub fn render_with_progress(
         aovs: options.aovs,
         sample_cell: (1.0 / options.spp as f32).sqrt(),
         volumes: &scene.volumes,
-        volume_lights: &volume_lights(&scene.lights),
+        lights: &scene.lights,
     };
     let (bands_done, bands) = (AtomicUsize::new(0), bins.tiles_y);
     let band_aovs: Vec<frame::AovBand> = frame
@@ -180,24 +182,12 @@ pub fn render_with_progress(
     Ok(frame)
 }
 
-/// The lights as a volume sees them.
-fn volume_lights(lights: &[Light]) -> Vec<VolumeLight> {
-    lights
-        .iter()
-        .map(|l| match *l {
-            Light::Directional { direction, radiance } => VolumeLight::Directional { to_light: -direction, radiance },
-            Light::Point { position, radiance } => VolumeLight::Point { position, radiance },
-            Light::Ambient { radiance } => VolumeLight::Ambient { radiance },
-        })
-        .collect()
-}
-
 fn ms(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
 
-/// Every surface of every object, placed in the world.
-fn instances(scene: &Scene, camera: &Camera, turntable_degrees: f32) -> Vec<SurfaceInstance> {
+/// Every primitive of every object, placed in the world.
+fn instances(scene: &Scene, camera: &Camera, turntable_degrees: f32) -> Vec<Instance> {
     let pivot = scene.camera.look_at;
     let spin = Affine3A::from_translation(pivot)
         * Affine3A::from_quat(Quat::from_rotation_y(turntable_degrees.to_radians()))
@@ -205,25 +195,19 @@ fn instances(scene: &Scene, camera: &Camera, turntable_degrees: f32) -> Vec<Surf
     let mut out = Vec::new();
     for (index, object) in scene.objects.iter().enumerate() {
         let object_to_world = spin * object.transform.matrix();
-        let normal_matrix = Mat3::from(object_to_world.matrix3).inverse().transpose();
-        let closed = object.shape.is_closed();
-        for surface in object.shape.surfaces() {
-            out.push(SurfaceInstance {
-                surface,
-                object_to_world,
-                object_to_camera: camera.world_to_camera * object_to_world,
-                normal_matrix,
-                material: object.material,
-                object: index as u32,
-                two_sided: !closed,
-            });
-        }
+        out.extend(Instance::of_shape(
+            &object.shape,
+            object_to_world,
+            camera.world_to_camera,
+            object.material,
+            index as u32,
+        ));
     }
     out
 }
 
 /// Clips, projects and sets up every triangle, in parallel over chunks, keeping submission order.
-fn setup_triangles(camera: &Camera, instances: &[SurfaceInstance], meshes: &[Mesh]) -> Vec<ScreenTriangle> {
+fn setup_triangles(camera: &Camera, instances: &[Instance], meshes: &[Mesh]) -> Vec<ScreenTriangle> {
     const CHUNK: usize = 8192;
     let projector = TriangleSetup::new(camera);
     let projected: Vec<Vec<ProjectedVertex>> = instances
@@ -231,6 +215,13 @@ fn setup_triangles(camera: &Camera, instances: &[SurfaceInstance], meshes: &[Mes
         .zip(meshes)
         .map(|(inst, mesh)| projector.project_vertices(&mesh.positions, &mesh.uvs, &inst.object_to_camera))
         .collect();
+    // Each triangle's index within its object: the triangles of the object's earlier primitives come first.
+    let mut first = vec![0u32; instances.len()];
+    for s in 1..instances.len() {
+        if instances[s].object == instances[s - 1].object {
+            first[s] = first[s - 1] + meshes[s - 1].triangles.len() as u32;
+        }
+    }
     let jobs: Vec<(usize, usize)> = meshes
         .iter()
         .enumerate()
@@ -245,7 +236,8 @@ fn setup_triangles(camera: &Camera, instances: &[SurfaceInstance], meshes: &[Mes
                 &projected[s],
                 &tris[start..(start + CHUNK).min(tris.len())],
                 s as u32,
-                instances[s].cull(),
+                first[s] + start as u32,
+                cull(&instances[s]),
             );
             setup.triangles
         })
@@ -253,14 +245,12 @@ fn setup_triangles(camera: &Camera, instances: &[SurfaceInstance], meshes: &[Mes
     parts.concat()
 }
 
-impl SurfaceInstance {
-    /// Closed surfaces are never seen from inside: their triangles facing away are dropped.
-    fn cull(&self) -> Cull {
-        if self.two_sided {
-            Cull::Nothing
-        } else {
-            Cull::FacingAway { mirrored: self.object_to_world.matrix3.determinant() < 0.0 }
-        }
+/// Closed surfaces are never seen from inside: their triangles facing away are dropped.
+fn cull(inst: &Instance) -> Cull {
+    if inst.two_sided {
+        Cull::Nothing
+    } else {
+        Cull::FacingAway { mirrored: inst.object_to_world.matrix3.determinant() < 0.0 }
     }
 }
 
@@ -272,14 +262,14 @@ struct TileJob<'a> {
     max_steps: &'a [Vec2],
     triangles: &'a [ScreenTriangle],
     pattern: &'a SamplePattern,
-    instances: &'a [SurfaceInstance],
+    instances: &'a [Instance],
     shade: &'a ShadeContext<'a>,
     background: Vec3,
     aovs: Aovs,
     /// The side of one sample's cell of the pixel (1/sqrt(spp)), which scales its footprint.
     sample_cell: f32,
     volumes: &'a [Hypertexture],
-    volume_lights: &'a [VolumeLight],
+    lights: &'a [Light],
 }
 
 impl TileJob<'_> {
@@ -291,7 +281,7 @@ impl TileJob<'_> {
             return behind;
         }
         let (origin, dir) = self.camera.ray(screen);
-        self.volumes.iter().fold(behind, |c, v| v.composite(origin, dir, depth, c, self.volume_lights))
+        self.volumes.iter().fold(behind, |c, v| v.composite(origin, dir, depth, c, self.lights))
     }
 
     /// Rasterizes, shades and resolves one tile into its band of the frame.
@@ -383,8 +373,9 @@ impl TileJob<'_> {
             std::array::from_fn(|i| Footprint { dudx: dudx[i], dvdx: dvdx[i], dudy: dudy[i], dvdy: dvdy[i] });
         let max_step = self.max_steps[packet.surface as usize];
         let (uv, surface_frame) =
-            refine_uv8(self.camera, &inst.surface, &inst.object_to_camera, at.uv, (sx, sy), max_step);
-        let result = self.shade.shade8(inst, uv, &surface_frame, &footprints);
+            refine_uv8(self.camera, inst.surface(), &inst.object_to_camera, at.uv, (sx, sy), max_step);
+        let triangles = tris.map(|t| t.triangle);
+        let result = self.shade.shade8(inst, uv, &surface_frame, &footprints, triangles);
         for i in 0..packet.len {
             let uv = Vec2::new(uv.0.as_array_ref()[i], uv.1.as_array_ref()[i]);
             shaded[packet.samples[i]] = Shaded { shaded: result.lane(i), uv, object: inst.object };

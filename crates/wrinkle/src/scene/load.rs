@@ -2,13 +2,18 @@
 
 use super::fields::{number_value, points, vec3_value, Fields};
 use super::procedural;
-use super::{CameraDesc, Object, Scene, Shape};
+use super::{CameraDesc, Object, Scene};
+use crate::bump::function::filter_choices;
 use crate::bump::generators::{BrickParams, Generator, GridParams, RivetParams, TextParams};
-use crate::bump::{BumpFormula, BumpTable, Interp};
-use crate::geometry::{Surface, Transform};
+use crate::bump::{BumpFormula, BumpMap, BumpSource, BumpTable};
+use crate::geometry::{Shape, Surface, Transform};
 use crate::image::io;
+use crate::light::Light;
+use crate::mapping::{Mapping, UvTransform};
 use crate::raster::Projection;
-use crate::shade::{Bump, BumpFilter, BumpSource, Light, Material, Phong};
+use crate::shade::{Material, Phong};
+use crate::texture::reconstruct::Kernel;
+use crate::texture::{Filter, FilterOptions};
 use crate::{Error, Result};
 use glam::{Vec2, Vec3};
 use std::path::{Path, PathBuf};
@@ -296,20 +301,34 @@ pub(super) fn resolve(base: &Path, name: &str) -> PathBuf {
     }
 }
 
-/// A positive replication count per axis (default [1, 1]).
-pub(super) fn repeat(f: &Fields) -> Result<Vec2> {
+/// The placement of a texture or bump table in (u,v): `repeat` (a positive count per axis, default
+/// [1, 1]), then `rotate` (degrees counter-clockwise), then `offset`.
+pub(super) fn uv_transform(f: &Fields) -> Result<UvTransform> {
     let r = f.vec2("repeat")?.unwrap_or(Vec2::ONE);
     if r.min_element() <= 0.0 {
         return Err(Error::scene(f.at("repeat"), format!("expected positive counts, got [{}, {}]", r.x, r.y)));
     }
-    Ok(r)
+    let offset = f.vec2("offset")?.unwrap_or(Vec2::ZERO);
+    Ok(UvTransform::new(offset, f.number_or("rotate", 0.0)?, r))
 }
 
-fn parse_bump(path: &str, v: &Value, base: &Path) -> Result<Bump> {
+fn parse_bump(path: &str, v: &Value, base: &Path) -> Result<BumpMap> {
     let f = Fields::new(
         path,
         v,
-        &["map", "generator", "procedural", "scale", "repeat", "interp", "invariant", "formula", "filter"],
+        &[
+            "map",
+            "generator",
+            "procedural",
+            "scale",
+            "repeat",
+            "offset",
+            "rotate",
+            "interp",
+            "invariant",
+            "formula",
+            "filter",
+        ],
     )?;
     // A table's image, or the procedural pattern's fields.
     enum Source<'a> {
@@ -334,21 +353,29 @@ fn parse_bump(path: &str, v: &Value, base: &Path) -> Result<Bump> {
         (true, false) => BumpFormula::Full,
         (true, true) => return Err(Error::scene(f.at("invariant"), "applies to formula = \"blinn\" only")),
     };
-    Ok(Bump {
+    Ok(BumpMap {
         source: match image {
             Source::Image(image) => BumpSource::Table(Arc::new(BumpTable::new(&image))),
             Source::Procedural(p) => BumpSource::Procedural(Arc::new(procedural::parse_bump(&f.at("procedural"), p)?)),
         },
         scale: f.number_or("scale", 0.05)?,
-        repeat: repeat(&f)?,
-        interp: f.choice(
-            "interp",
-            Interp::Bilinear,
-            &[("nearest", Interp::Nearest), ("bilinear", Interp::Bilinear)],
-        )?,
+        mapping: Mapping::uv(uv_transform(&f)?),
         formula,
-        filter: f.choice("filter", BumpFilter::None, &BumpFilter::choices())?,
+        filter: FilterOptions { filter: bump_filter(&f)?, ..FilterOptions::default() },
     })
+}
+
+/// A bump table's filter: `filter` names any texture filter, or `"none"` (the full-resolution table read
+/// as `interp` says: Blinn's nearest or bilinear FVAL) or `"mip"` (another name of `"trilinear"`, Blinn's
+/// MIP-mapped table of section 5). `interp` belongs to `"none"` alone: every MIP filter reads its levels
+/// bilinearly.
+fn bump_filter(f: &Fields) -> Result<Filter> {
+    let kernels = [("nearest", Kernel::Nearest), ("bilinear", Kernel::Bilinear)];
+    match (f.choice("filter", None, &filter_choices())?, f.get("interp")) {
+        (None, _) => Ok(Filter::Reconstruct(f.choice("interp", Kernel::Bilinear, &kernels)?)),
+        (Some(_), Some(_)) => Err(Error::scene(f.at("interp"), "applies to filter = \"none\" only")),
+        (Some(filter), None) => Ok(filter),
+    }
 }
 
 /// The fields of a generator table: its kind, its size, then the parameters of every kind.

@@ -1,9 +1,11 @@
 //! The colour texture of a material: `texture = "file.png"` (with `filter = "..."` beside it in the
-//! material) or `texture = { path, filter, wrap, border, srgb, repeat, mipmap, level, max_aniso }`.
+//! material) or `texture = { path, filter, wrap, border, srgb, repeat, offset, rotate, mipmap, level,
+//! max_aniso }`.
 
 use super::fields::{numbers, Fields};
-use super::load::{repeat, resolve};
+use super::load::{resolve, uv_transform};
 use crate::image::io;
+use crate::mapping::{MappedTexture, Mapping, UvTransform};
 use crate::texture::{Filter, FilterOptions, FilteredTexture, LevelRule, MipFilter, Texture, TextureOptions, Wrap};
 use crate::{Error, Result};
 use glam::Vec4;
@@ -11,19 +13,21 @@ use std::path::Path;
 use std::sync::Arc;
 use toml::Value;
 
-const TEXTURE_FIELDS: &[&str] = &["path", "filter", "wrap", "border", "srgb", "repeat", "mipmap", "level", "max_aniso"];
+const TEXTURE_FIELDS: &[&str] =
+    &["path", "filter", "wrap", "border", "srgb", "repeat", "offset", "rotate", "mipmap", "level", "max_aniso"];
 
 /// The texture at `path` (the material's `texture` field); `material` is the material table, whose
 /// `filter` applies to the short form.
-pub fn parse_texture(path: &str, v: &Value, material: &Fields, base: &Path) -> Result<Arc<dyn Texture>> {
+pub fn parse_texture(path: &str, v: &Value, material: &Fields, base: &Path) -> Result<MappedTexture> {
     if super::procedural::is_procedural(v) {
-        return Ok(Arc::new(super::procedural::parse_texture(path, v)?));
+        let texture = Arc::new(super::procedural::parse_texture(path, v)?);
+        return Ok(MappedTexture { texture, mapping: Mapping::default() });
     }
     let beside = material.choice("filter", None, &filter_choices())?;
-    let (file, options, srgb) = match v {
+    let (file, options, srgb, transform) = match v {
         Value::String(s) => {
             let filter = FilterOptions { filter: beside.unwrap_or(Filter::Trilinear), ..FilterOptions::default() };
-            (s.as_str(), TextureOptions { filter, ..TextureOptions::default() }, true)
+            (s.as_str(), TextureOptions { filter, ..TextureOptions::default() }, true, UvTransform::IDENTITY)
         }
         _ => {
             let f = Fields::new(path, v, TEXTURE_FIELDS)?;
@@ -53,16 +57,16 @@ pub fn parse_texture(path: &str, v: &Value, material: &Fields, base: &Path) -> R
                 wrap: wrap(&f)?,
                 border: border(&f)?,
                 mip_filter: f.choice("mipmap", MipFilter::Box, &MipFilter::NAMES)?,
-                repeat: repeat(&f)?,
                 filter,
             };
-            (file, options, f.boolean("srgb", true)?)
+            (file, options, f.boolean("srgb", true)?, uv_transform(&f)?)
         }
     };
-    Ok(Arc::new(match io::load_texels(&resolve(base, file), srgb)? {
+    let texture: Arc<dyn Texture> = Arc::new(match io::load_texels(&resolve(base, file), srgb)? {
         io::Texels::Rgba8(image) => FilteredTexture::from_rgba8(&image, srgb, options),
         io::Texels::Linear(image) => FilteredTexture::new(&image, options),
-    }))
+    });
+    Ok(MappedTexture { texture, mapping: Mapping::uv(transform) })
 }
 
 fn filter_choices() -> Vec<(&'static str, Option<Filter>)> {
@@ -99,8 +103,10 @@ impl crate::Scene {
     /// Every colour texture that has a choice of filters takes `filter` (`--filter` overriding the scene).
     pub fn set_texture_filter(&mut self, filter: Filter) {
         for m in &mut self.materials {
-            if let Some(t) = m.texture.as_ref().and_then(|t| t.with_filter(filter)) {
-                m.texture = Some(t);
+            if let Some(t) = m.texture.as_mut() {
+                if let Some(filtered) = t.texture.with_filter(filter) {
+                    t.texture = filtered;
+                }
             }
         }
     }

@@ -1,5 +1,5 @@
 //! A colour texture with a choice of filter: RGBA texels (8-bit sources kept in 8 bits and decoded per
-//! fetch, 16-bit and float sources as linear f32), wrap modes per axis, a border colour, a replication count, and one of the filters of
+//! fetch, 16-bit and float sources as linear f32), wrap modes per axis, a border colour, and one of the filters of
 //! [`Filter`] for every lookup.
 
 use super::filter::{Filter, FilterOptions, Filterable};
@@ -8,11 +8,11 @@ use super::rgba8::Rgba8Plane;
 use super::texel::Plane;
 use super::trilinear8::{trilinear8, trilinear_taps8};
 use super::wrap::Wrap;
-use super::{aniso, lane_by_lane, Footprint, SolidPoint, Texture};
+use super::{aniso, lane_by_lane, Footprint, LookupContext, LookupContext8, Texture};
 use crate::image::color::SrgbEncoder;
 use crate::image::Image;
-use crate::lanes::{F8, LANES};
-use glam::{Vec2, Vec4};
+use crate::lanes::F8;
+use glam::Vec4;
 use std::sync::Arc;
 
 /// How a texture is prepared (once) and looked up.
@@ -21,8 +21,6 @@ pub struct TextureOptions {
     pub wrap: [Wrap; 2],
     pub border: Vec4,
     pub mip_filter: MipFilter,
-    /// Copies of the texture per unit of (u, v).
-    pub repeat: Vec2,
     pub filter: FilterOptions,
 }
 
@@ -32,7 +30,6 @@ impl Default for TextureOptions {
             wrap: [Wrap::Repeat; 2],
             border: Vec4::ZERO,
             mip_filter: MipFilter::Box,
-            repeat: Vec2::ONE,
             filter: FilterOptions::default(),
         }
     }
@@ -108,15 +105,6 @@ impl FilteredTexture {
         FilteredTexture { data: Arc::clone(&self.data), options, path: Path::of(&self.data, &options) }
     }
 
-    /// The same texture data replicated `repeat` times per unit of (u, v).
-    pub fn with_repeat(&self, repeat: Vec2) -> FilteredTexture {
-        FilteredTexture {
-            data: Arc::clone(&self.data),
-            options: TextureOptions { repeat, ..self.options },
-            path: self.path,
-        }
-    }
-
     pub fn options(&self) -> &TextureOptions {
         &self.options
     }
@@ -146,21 +134,14 @@ impl FilteredTexture {
 
 impl Texture for FilteredTexture {
     #[inline]
-    fn sample(&self, uv: Vec2, footprint: &Footprint) -> Vec4 {
-        let st = uv * self.options.repeat;
-        let fp = footprint.replicated(self.options.repeat.x, self.options.repeat.y);
-        self.lookup(st.x, st.y, &fp)
+    fn eval(&self, ctx: &LookupContext) -> Vec4 {
+        self.lookup(ctx.uv.x, ctx.uv.y, &ctx.footprint)
     }
 
-    fn sample8(&self, u: F8, v: F8, footprints: &[Footprint; LANES], solid: &[SolidPoint; LANES]) -> [F8; 4] {
-        let opts = &self.options;
+    fn eval8(&self, ctx: &LookupContext8) -> [F8; 4] {
         match (self.path, &*self.data) {
-            (Path::Trilinear8, Levels::Bytes(d)) => {
-                let (ru, rv) = (opts.repeat.x, opts.repeat.y);
-                let fp = footprints.map(|f| f.replicated(ru, rv));
-                trilinear8(d.levels(), u * F8::splat(ru), v * F8::splat(rv), &fp)
-            }
-            _ => lane_by_lane(self, u, v, footprints, solid),
+            (Path::Trilinear8, Levels::Bytes(d)) => trilinear8(d.levels(), ctx.u, ctx.v, &ctx.footprints),
+            _ => lane_by_lane(self, ctx),
         }
     }
 

@@ -1,6 +1,8 @@
-//! Textures: sources sampled at (u,v) with the pixel's footprint in texture space.
+//! Textures: sources looked up at a surface sample (its lookup context), images through the pixel's
+//! footprint in texture space.
 
 pub mod aniso;
+pub mod context;
 pub mod ewa;
 pub mod filter;
 pub mod filtered;
@@ -15,6 +17,7 @@ pub mod texel;
 pub mod trilinear8;
 pub mod wrap;
 
+pub use context::{LookupContext, LookupContext8, PrimitiveId};
 pub use filter::{Filter, FilterOptions, Filterable};
 pub use filtered::{FilteredTexture, TextureOptions};
 pub use footprint::Footprint;
@@ -22,53 +25,33 @@ pub use mip::{LevelRule, MipFilter};
 pub use wrap::Wrap;
 
 use crate::lanes::{F8, LANES};
-use glam::{Vec2, Vec3, Vec4};
+use glam::Vec4;
 
-/// Anything that can be looked up at (u,v). The footprint tells the lookup how large the pixel is,
-/// so that a filter can integrate over it; filters plug in here without touching the shader.
+/// Anything that can be looked up at a surface sample. The context tells the lookup where the sample is
+/// and how large its pixel is, so that a filter can integrate over it; filters plug in here without
+/// touching the shader.
 pub trait Texture: Send + Sync {
-    /// Linear-light RGBA at `uv` (one period is [0,1]; the source decides how it wraps).
-    fn sample(&self, uv: Vec2, footprint: &Footprint) -> Vec4;
+    /// Linear-light RGBA at the sample: an image reads `ctx.uv` (one period is [0,1]; the source decides
+    /// how it wraps) and its footprint, a solid texture the point `ctx.p`.
+    fn eval(&self, ctx: &LookupContext) -> Vec4;
+
+    /// Eight lookups at once (the packet shader's), as four channel lanes (R, G, B, A). Sources with a
+    /// faster way override it; by default, one `eval` per lane.
+    fn eval8(&self, ctx: &LookupContext8) -> [F8; 4] {
+        lane_by_lane(self, ctx)
+    }
 
     /// The same texture looked up with another filter (`--filter` overriding a scene), where the source
     /// has a choice of filters; `None` keeps it as it is.
     fn with_filter(&self, _filter: Filter) -> Option<std::sync::Arc<dyn Texture>> {
         None
     }
-
-    /// The lookup at a surface point: solid textures read the object-space point (u = x, v = y, w = z);
-    /// every other texture reads (u,v) as `sample` does.
-    fn sample_at(&self, uv: Vec2, footprint: &Footprint, _solid: &SolidPoint) -> Vec4 {
-        self.sample(uv, footprint)
-    }
-
-    /// Eight lookups at surface points at once (the packet shader's), as four channel lanes (R, G, B, A).
-    /// Sources with a faster way override it; by default, one `sample_at` per lane.
-    fn sample8(&self, u: F8, v: F8, footprints: &[Footprint; LANES], solid: &[SolidPoint; LANES]) -> [F8; 4] {
-        lane_by_lane(self, u, v, footprints, solid)
-    }
 }
 
-/// `sample_at` once per lane, transposed to channel lanes.
-pub fn lane_by_lane<T: Texture + ?Sized>(
-    texture: &T,
-    u: F8,
-    v: F8,
-    footprints: &[Footprint; LANES],
-    solid: &[SolidPoint; LANES],
-) -> [F8; 4] {
-    let (u, v) = (u.as_array_ref(), v.as_array_ref());
-    let texels: [Vec4; LANES] =
-        std::array::from_fn(|i| texture.sample_at(Vec2::new(u[i], v[i]), &footprints[i], &solid[i]));
+/// `eval` once per lane, transposed to channel lanes.
+pub fn lane_by_lane<T: Texture + ?Sized>(texture: &T, ctx: &LookupContext8) -> [F8; 4] {
+    let texels: [Vec4; LANES] = std::array::from_fn(|i| texture.eval(&ctx.lane(i)));
     std::array::from_fn(|c| F8::new(texels.map(|t| t[c])))
-}
-
-/// The object-space point of a surface sample and the size of its pixel there (the square root of the
-/// area spanned by the screen steps dP/dx, dP/dy), for solid textures.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct SolidPoint {
-    pub p: Vec3,
-    pub width: f32,
 }
 
 /// Wraps a coordinate into [0, 1) periodically.

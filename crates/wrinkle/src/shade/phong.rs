@@ -1,50 +1,7 @@
-//! Lights and the Blinn-Phong reflection of one light.
+//! The Blinn-Phong reflection of one light.
 
 use crate::lanes::{CmpGt, F8, V3};
-use glam::Vec3;
-
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Light {
-    /// Light travelling along `direction` (unit), `radiance` = colour x intensity.
-    Directional { direction: Vec3, radiance: Vec3 },
-    /// A point light; its intensity falls off with the square of the distance.
-    Point { position: Vec3, radiance: Vec3 },
-    /// Light from everywhere, reflected diffusely without regard to the normal.
-    Ambient { radiance: Vec3 },
-}
-
-impl Light {
-    /// Blinn-Phong on eight samples: albedo (N.L) + k specular (N.H)^shininess, times the light's radiance
-    /// at `p`; `k` in [0, 1] scales each lane's specular (a specular map).
-    #[inline]
-    pub fn shade8(&self, p: V3, n: V3, v: V3, albedo: V3, phong: &Phong, k: F8) -> V3 {
-        let (l, radiance) = match *self {
-            Light::Directional { direction, radiance } => (V3::splat(-direction), V3::splat(radiance)),
-            Light::Point { position, radiance } => {
-                let d = V3::splat(position) - p;
-                let d2 = d.dot(d);
-                (d * (F8::ONE / d2.sqrt()), V3::splat(radiance) * (F8::ONE / d2))
-            }
-            Light::Ambient { radiance } => return V3::splat(radiance) * albedo,
-        };
-        let ndotl = n.dot(l);
-        let lit = ndotl.cmp_gt(F8::ZERO);
-        if lit.none() {
-            return V3::ZERO;
-        }
-        let h = (l + v).normalize_or_zero();
-        let ndoth = n.dot(h);
-        let glints = ndoth.cmp_gt(F8::splat(phong.cutoff));
-        let spec = if glints.any() {
-            glints.blend(F8::splat(phong.specular) * k * ndoth.pow_f32x8(F8::splat(phong.shininess)), F8::ZERO)
-        } else {
-            F8::ZERO
-        };
-        let diffuse = lit.blend(ndotl, F8::ZERO);
-        let spec = lit.blend(spec, F8::ZERO);
-        radiance * (albedo * diffuse + V3 { x: spec, y: spec, z: spec })
-    }
-}
+use crate::light::Light;
 
 /// The specular lobe of Blinn-Phong: specular (N.H)^shininess.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -60,16 +17,48 @@ impl Phong {
         let cutoff = if specular > 0.0 { (1e-6 / specular).min(1.0).powf(1.0 / shininess) } else { f32::INFINITY };
         Phong { specular, shininess, cutoff }
     }
+
+    /// Blinn-Phong on eight samples: albedo (N.L) + k specular (N.H)^shininess, times `light`'s radiance
+    /// at `p`; `k` in [0, 1] scales each lane's specular (a specular map).
+    #[inline]
+    pub fn shade8(&self, light: &Light, p: V3, n: V3, v: V3, albedo: V3, k: F8) -> V3 {
+        let (l, radiance) = match *light {
+            Light::Directional { direction, radiance } => (V3::splat(-direction), V3::splat(radiance)),
+            Light::Point { position, radiance } => {
+                let d = V3::splat(position) - p;
+                let d2 = d.dot(d);
+                (d * (F8::ONE / d2.sqrt()), V3::splat(radiance) * (F8::ONE / d2))
+            }
+            Light::Ambient { radiance } => return V3::splat(radiance) * albedo,
+        };
+        let ndotl = n.dot(l);
+        let lit = ndotl.cmp_gt(F8::ZERO);
+        if lit.none() {
+            return V3::ZERO;
+        }
+        let h = (l + v).normalize_or_zero();
+        let ndoth = n.dot(h);
+        let glints = ndoth.cmp_gt(F8::splat(self.cutoff));
+        let spec = if glints.any() {
+            glints.blend(F8::splat(self.specular) * k * ndoth.pow_f32x8(F8::splat(self.shininess)), F8::ZERO)
+        } else {
+            F8::ZERO
+        };
+        let diffuse = lit.blend(ndotl, F8::ZERO);
+        let spec = lit.blend(spec, F8::ZERO);
+        radiance * (albedo * diffuse + V3 { x: spec, y: spec, z: spec })
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec3;
 
     /// One sample shaded in every lane; lane 2 read back.
     fn shade(light: &Light, p: Vec3, n: Vec3, v: Vec3, albedo: Vec3, phong: &Phong) -> Vec3 {
         let s = V3::splat;
-        light.shade8(s(p), s(n), s(v), s(albedo), phong, F8::ONE).lane(2)
+        phong.shade8(light, s(p), s(n), s(v), s(albedo), F8::ONE).lane(2)
     }
 
     #[test]
@@ -113,7 +102,7 @@ mod tests {
         ] {
             let albedo = Vec3::new(0.9, 0.6, 0.3);
             let all =
-                light.shade8(V3::ZERO, V3::from_lanes(&normals), V3::splat(eye), V3::splat(albedo), &phong, F8::ONE);
+                phong.shade8(&light, V3::ZERO, V3::from_lanes(&normals), V3::splat(eye), V3::splat(albedo), F8::ONE);
             for (i, n) in normals.iter().enumerate() {
                 let alone = shade(&light, Vec3::ZERO, *n, eye, albedo, &phong);
                 assert!((all.lane(i) - alone).length() < 1e-6, "{light:?} lane {i}");

@@ -1,0 +1,102 @@
+//! The shapes a scene names, and the primitives the renderer draws: every shape is made of parametric
+//! surfaces (a box of six patches), each placed in the world as an instance.
+
+use super::surface::Surface;
+use glam::{Affine3A, Mat3, Vec3};
+
+/// The shape of an object: one parametric surface, or a box made of six flat patches.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Shape {
+    Surface(Surface),
+    /// Edge lengths along x, y, z, centred on the origin.
+    Box {
+        size: Vec3,
+    },
+}
+
+impl Shape {
+    /// The primitives of the shape. A box's faces are patches seen from outside with u to the
+    /// right and v up: +z and -z with v along +y, +x and -x with v along +y, +y and -y with u along +x.
+    pub fn primitives(&self) -> Vec<Primitive> {
+        match self {
+            Shape::Surface(s) => vec![Primitive::Parametric(s.clone())],
+            Shape::Box { size } => {
+                let h = *size * 0.5;
+                let p = |x: f32, y: f32, z: f32| Vec3::new(x * h.x, y * h.y, z * h.z);
+                let faces = [
+                    [p(-1., -1., 1.), p(1., -1., 1.), p(1., 1., 1.), p(-1., 1., 1.)],
+                    [p(1., -1., -1.), p(-1., -1., -1.), p(-1., 1., -1.), p(1., 1., -1.)],
+                    [p(1., -1., 1.), p(1., -1., -1.), p(1., 1., -1.), p(1., 1., 1.)],
+                    [p(-1., -1., -1.), p(-1., -1., 1.), p(-1., 1., 1.), p(-1., 1., -1.)],
+                    [p(-1., 1., 1.), p(1., 1., 1.), p(1., 1., -1.), p(-1., 1., -1.)],
+                    [p(-1., -1., -1.), p(1., -1., -1.), p(1., -1., 1.), p(-1., -1., 1.)],
+                ];
+                faces.iter().map(|&corners| Primitive::Parametric(Surface::Patch { corners })).collect()
+            }
+        }
+    }
+
+    /// Whether the shape encloses a volume, so faces turned away from the eye are never seen.
+    pub fn is_closed(&self) -> bool {
+        match self {
+            Shape::Surface(s) => s.is_closed(),
+            Shape::Box { .. } => true,
+        }
+    }
+}
+
+/// What the renderer draws: one piece of a shape, with its own way of finding the surface at a sample.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Primitive {
+    /// A parametric surface: P(u,v) and its derivatives evaluated exactly at each sample's (u,v).
+    Parametric(Surface),
+}
+
+/// One primitive placed in the world with its material.
+pub struct Instance {
+    pub primitive: Primitive,
+    pub object_to_world: Affine3A,
+    pub object_to_camera: Affine3A,
+    /// The inverse transpose of `object_to_world`'s linear part: carries normals to the world.
+    pub normal_matrix: Mat3,
+    /// Index into the scene's materials.
+    pub material: usize,
+    /// The object's index in the scene.
+    pub object: u32,
+    /// Open surfaces are lit from whichever side faces the eye; closed ones have their back faces culled.
+    pub two_sided: bool,
+}
+
+impl Instance {
+    /// Every primitive of `shape` placed by `object_to_world`, seen through `world_to_camera`.
+    pub fn of_shape(
+        shape: &Shape,
+        object_to_world: Affine3A,
+        world_to_camera: Affine3A,
+        material: usize,
+        object: u32,
+    ) -> Vec<Instance> {
+        let normal_matrix = Mat3::from(object_to_world.matrix3).inverse().transpose();
+        let two_sided = !shape.is_closed();
+        shape
+            .primitives()
+            .into_iter()
+            .map(|primitive| Instance {
+                primitive,
+                object_to_world,
+                object_to_camera: world_to_camera * object_to_world,
+                normal_matrix,
+                material,
+                object,
+                two_sided,
+            })
+            .collect()
+    }
+
+    /// The parametric surface of the instance.
+    pub fn surface(&self) -> &Surface {
+        match &self.primitive {
+            Primitive::Parametric(s) => s,
+        }
+    }
+}

@@ -1,0 +1,14 @@
+//! Lights as plain data: what shines where. How a surface or a volume reflects them is the shader's
+//! business (shade/phong.rs, procedural/hypertexture.rs); this module knows nothing of materials.
+
+use glam::Vec3;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Light {
+    /// Light travelling along `direction` (unit), `radiance` = colour x intensity.
+    Directional { direction: Vec3, radiance: Vec3 },
+    /// A point light; its intensity falls off with the square of the distance.
+    Point { position: Vec3, radiance: Vec3 },
+    /// Light from everywhere, reflected diffusely without regard to the normal.
+    Ambient { radiance: Vec3 },
+}

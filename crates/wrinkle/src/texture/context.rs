@@ -1,0 +1,170 @@
+//! The one argument of every texture lookup, colour or bump (pbrt-v4's `TextureEvalContext`): where the
+//! sample is on the surface, how large its pixel is there, and which primitive it belongs to. A mapping
+//! (crate::mapping) rewrites its texture coordinates; a texture reads what it needs: an image the
+//! coordinates and their footprint, a solid texture the point and the pixel's size.
+
+use super::Footprint;
+use crate::lanes::{F8, LANES, V3};
+use glam::{Vec2, Vec3};
+
+/// Which primitive a sample lies on: the object's index in the scene and the triangle's within the object
+/// (for parametric surfaces, the tessellation's).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PrimitiveId {
+    pub object: u32,
+    pub triangle: u32,
+}
+
+/// One surface sample as a texture sees it. Positions and vectors are in object space.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LookupContext {
+    pub p: Vec3,
+    /// How P moves across one pixel step in x and in y.
+    pub dpdx: Vec3,
+    pub dpdy: Vec3,
+    /// The geometric normal Pu x Pv (not unit).
+    pub n: Vec3,
+    /// The surface tangents along the surface parameters: what a bump's Fu and Fv are taken along.
+    pub dpdu: Vec3,
+    pub dpdv: Vec3,
+    /// The texture coordinates and their screen derivatives: the surface parameters until a mapping
+    /// replaces them with its own.
+    pub uv: Vec2,
+    pub footprint: Footprint,
+    pub primitive: PrimitiveId,
+}
+
+impl LookupContext {
+    /// The context of a point with tangents `dpdu`, `dpdv` at `uv` whose screen derivatives are `footprint`:
+    /// dP/dx = Pu du/dx + Pv dv/dx, and alike for y.
+    pub fn on_surface(p: Vec3, dpdu: Vec3, dpdv: Vec3, uv: Vec2, footprint: Footprint) -> LookupContext {
+        LookupContext {
+            p,
+            dpdx: dpdu * footprint.dudx + dpdv * footprint.dvdx,
+            dpdy: dpdu * footprint.dudy + dpdv * footprint.dvdy,
+            n: dpdu.cross(dpdv),
+            dpdu,
+            dpdv,
+            uv,
+            footprint,
+            primitive: PrimitiveId::default(),
+        }
+    }
+
+    /// A lookup at texture coordinates alone, with no surface behind them: the point is (u, v, 0) on the
+    /// plane z = 0 whose tangents are the axes (what a solid texture reads when it is shown as an image).
+    pub fn at_uv(uv: Vec2, footprint: Footprint) -> LookupContext {
+        LookupContext::on_surface(uv.extend(0.0), Vec3::X, Vec3::Y, uv, footprint)
+    }
+
+    /// The pixel's size at P: the square root of the area spanned by dP/dx and dP/dy.
+    pub fn pixel_width(&self) -> f32 {
+        self.dpdx.cross(self.dpdy).length().sqrt()
+    }
+}
+
+/// Eight contexts of one primitive at once (the packet shader's), vectors as structures of arrays.
+#[derive(Clone, Copy, Debug)]
+pub struct LookupContext8 {
+    pub p: V3,
+    pub dpdx: V3,
+    pub dpdy: V3,
+    pub n: V3,
+    pub dpdu: V3,
+    pub dpdv: V3,
+    pub u: F8,
+    pub v: F8,
+    pub footprints: [Footprint; LANES],
+    pub object: u32,
+    pub triangles: [u32; LANES],
+}
+
+impl LookupContext8 {
+    /// `LookupContext::on_surface` on every lane.
+    #[inline]
+    pub fn on_surface(
+        p: V3,
+        dpdu: V3,
+        dpdv: V3,
+        uv: (F8, F8),
+        footprints: [Footprint; LANES],
+        object: u32,
+        triangles: [u32; LANES],
+    ) -> LookupContext8 {
+        let lane = |f: fn(&Footprint) -> f32| F8::new(footprints.map(|p| f(&p)));
+        LookupContext8 {
+            p,
+            dpdx: dpdu * lane(|p| p.dudx) + dpdv * lane(|p| p.dvdx),
+            dpdy: dpdu * lane(|p| p.dudy) + dpdv * lane(|p| p.dvdy),
+            n: dpdu.cross(dpdv),
+            dpdu,
+            dpdv,
+            u: uv.0,
+            v: uv.1,
+            footprints,
+            object,
+            triangles,
+        }
+    }
+
+    /// The context of lane `i`.
+    pub fn lane(&self, i: usize) -> LookupContext {
+        LookupContext {
+            p: self.p.lane(i),
+            dpdx: self.dpdx.lane(i),
+            dpdy: self.dpdy.lane(i),
+            n: self.n.lane(i),
+            dpdu: self.dpdu.lane(i),
+            dpdv: self.dpdv.lane(i),
+            uv: Vec2::new(self.u.as_array_ref()[i], self.v.as_array_ref()[i]),
+            footprint: self.footprints[i],
+            primitive: PrimitiveId { object: self.object, triangle: self.triangles[i] },
+        }
+    }
+
+    /// `LookupContext::pixel_width` on every lane.
+    #[inline]
+    pub fn pixel_widths(&self) -> F8 {
+        self.dpdx.cross(self.dpdy).length().sqrt()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The lane form holds on every lane what the scalar form holds for its sample.
+    #[test]
+    fn lanes_equal_the_scalar_form() {
+        let v = |k: usize, a: f32| Vec3::new(a + k as f32 * 0.3, 1.0 - a * k as f32 * 0.1, 0.5 * a - k as f32);
+        let footprints: [Footprint; LANES] = std::array::from_fn(|k| {
+            let s = 0.001 * (k + 1) as f32;
+            Footprint { dudx: s, dvdx: 0.3 * s, dudy: -0.2 * s, dvdy: 2.0 * s }
+        });
+        let lanes = |a: f32| V3::from_lanes(&std::array::from_fn(|k| v(k, a)));
+        let uv = (F8::new(std::array::from_fn(|k| 0.1 * k as f32)), F8::splat(0.25));
+        let triangles = std::array::from_fn(|k| 10 * k as u32);
+        let ctx8 = LookupContext8::on_surface(lanes(0.2), lanes(1.5), lanes(-0.7), uv, footprints, 3, triangles);
+        let widths = ctx8.pixel_widths();
+        for k in 0..LANES {
+            let mut want = LookupContext::on_surface(
+                v(k, 0.2),
+                v(k, 1.5),
+                v(k, -0.7),
+                Vec2::new(0.1 * k as f32, 0.25),
+                footprints[k],
+            );
+            want.primitive = PrimitiveId { object: 3, triangle: 10 * k as u32 };
+            let got = ctx8.lane(k);
+            for (a, b) in [(got.dpdx, want.dpdx), (got.dpdy, want.dpdy), (got.n, want.n)] {
+                assert!((a - b).length() <= 1e-6 * b.length().max(1.0), "lane {k}: {a} vs {b}");
+            }
+            assert_eq!(
+                (got.p, got.uv, got.footprint, got.primitive),
+                (want.p, want.uv, want.footprint, want.primitive)
+            );
+            let w = want.pixel_width();
+            assert!((widths.as_array_ref()[k] - w).abs() <= 1e-5 * w, "lane {k}: {} vs {w}", widths.as_array_ref()[k]);
+        }
+    }
+}
