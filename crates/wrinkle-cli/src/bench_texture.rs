@@ -13,7 +13,8 @@ use wrinkle::lanes::{F8, LANES, V3};
 use wrinkle::texture::mip::build_levels;
 use wrinkle::texture::texel::Plane;
 use wrinkle::texture::{
-    Filter, FilterOptions, FilteredTexture, Footprint, LookupContext8, MipFilter, Texture, TextureOptions, Wrap,
+    Filter, FilterOptions, FilteredTexture, Footprint, Footprint8, LookupContext8, MipFilter, Texture, TextureOptions,
+    Wrap,
 };
 use wrinkle::{Error, Result};
 
@@ -115,7 +116,7 @@ fn rate8(tex: &FilteredTexture, set: &[Lookup], parallel: bool, rounds: usize) -
     let run = |chunk: &[Lookup]| {
         chunk.chunks_exact(LANES).fold(Vec4::ZERO, |acc, p| {
             let lane = |f: fn(&Lookup) -> f32| F8::new(std::array::from_fn(|i| f(&p[i])));
-            let footprints = std::array::from_fn(|i| p[i].fp);
+            let footprints = Footprint8::from_lanes(&std::array::from_fn(|i| p[i].fp));
             let z = V3::splat(Vec3::ZERO);
             let uv = (lane(|l| l.st.x), lane(|l| l.st.y));
             let ctx = LookupContext8::on_surface(z, z, z, uv, footprints, 0, [0; LANES]);

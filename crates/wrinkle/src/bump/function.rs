@@ -72,7 +72,7 @@ impl BumpMap {
             }
         };
         let mapped = self.mapping.apply8(ctx);
-        let [f, fs, ft] = table.lookup8(mapped.u, mapped.v, &mapped.footprints, filter);
+        let [f, fs, ft] = table.lookup8(mapped.u, mapped.v, &mapped.footprint, filter);
         let [ku, kv] = self.chain();
         let k = F8::splat;
         [k(self.scale) * f, fs * k(ku.x) + ft * k(ku.y), fs * k(kv.x) + ft * k(kv.y)]

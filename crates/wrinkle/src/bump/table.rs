@@ -20,7 +20,7 @@ use crate::texture::filter::{Filter, FilterOptions, Filterable};
 use crate::texture::mip::{LevelRule, MipFilter, Resample};
 use crate::texture::reconstruct::Kernel;
 use crate::texture::texel::{Plane, TexelSource};
-use crate::texture::{bilinear_taps, wrap01, Footprint, Wrap};
+use crate::texture::{bilinear_taps, wrap01, Footprint, Footprint8, Wrap};
 use glam::Vec3;
 
 /// How F is read from the table between texel centres.
@@ -120,13 +120,13 @@ impl BumpTable {
 
     /// `lookup` at eight (s,t): the full-table FVALs on the lanes, every other filter lane by lane.
     #[inline]
-    pub fn lookup8(&self, s: F8, t: F8, fps: &[Footprint; LANES], opts: &FilterOptions) -> [F8; 3] {
+    pub fn lookup8(&self, s: F8, t: F8, fp: &Footprint8, opts: &FilterOptions) -> [F8; 3] {
         match opts.filter {
             Filter::Reconstruct(Kernel::Nearest) => self.sample8(s, t, Interp::Nearest, 0),
             Filter::Reconstruct(Kernel::Bilinear) => self.sample8(s, t, Interp::Bilinear, 0),
             _ => {
                 let (s, t) = (s.as_array_ref(), t.as_array_ref());
-                let g: [Gradient; LANES] = std::array::from_fn(|i| self.lookup(s[i], t[i], &fps[i], opts));
+                let g: [Gradient; LANES] = std::array::from_fn(|i| self.lookup(s[i], t[i], &fp.lane(i), opts));
                 [F8::new(g.map(|g| g.f)), F8::new(g.map(|g| g.fu)), F8::new(g.map(|g| g.fv))]
             }
         }

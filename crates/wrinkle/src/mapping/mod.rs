@@ -36,7 +36,7 @@ impl Mapping {
     pub fn apply8(&self, ctx: &LookupContext8) -> LookupContext8 {
         let t = &self.transform;
         let (u, v) = t.point8(ctx.u, ctx.v);
-        LookupContext8 { u, v, footprints: ctx.footprints.map(|f| t.footprint(&f)), ..*ctx }
+        LookupContext8 { u, v, footprint: t.footprint8(&ctx.footprint), ..*ctx }
     }
 
     /// d(s,t)/du and d(s,t)/dv: the columns of the mapping's Jacobian with respect to the surface parameters.

@@ -2,7 +2,7 @@
 //! texture matrix and glTF's KHR_texture_transform place it: st = offset + R(rotation) (scale * uv).
 
 use crate::lanes::F8;
-use crate::texture::Footprint;
+use crate::texture::{Footprint, Footprint8};
 use glam::Vec2;
 
 /// st = A uv + offset, A = R(rotation) diag(scale).
@@ -11,23 +11,27 @@ pub struct UvTransform {
     /// The columns of A: d(st)/du and d(st)/dv.
     columns: [Vec2; 2],
     offset: Vec2,
+    /// A is diagonal (no rotation but whole half turns): s depends on u alone and t on v alone, half the
+    /// arithmetic per lookup (the common case of a plain repeat).
+    diagonal: bool,
 }
 
 impl UvTransform {
-    pub const IDENTITY: UvTransform = UvTransform { columns: [Vec2::X, Vec2::Y], offset: Vec2::ZERO };
+    pub const IDENTITY: UvTransform = UvTransform { columns: [Vec2::X, Vec2::Y], offset: Vec2::ZERO, diagonal: true };
 
     /// `scale` copies per unit of (u, v) (the repeat count), rotated counter-clockwise by `rotation_degrees`,
     /// then moved by `offset`.
     pub fn new(offset: Vec2, rotation_degrees: f32, scale: Vec2) -> UvTransform {
         // Whole quarter turns exactly: a rotation of 0 must leave st = scale * uv bit for bit.
         let (sin, cos) = match rotation_degrees.rem_euclid(360.0) {
-            r if r == 0.0 => (0.0, 1.0),
-            r if r == 90.0 => (1.0, 0.0),
-            r if r == 180.0 => (0.0, -1.0),
-            r if r == 270.0 => (-1.0, 0.0),
+            0.0 => (0.0, 1.0),
+            90.0 => (1.0, 0.0),
+            180.0 => (0.0, -1.0),
+            270.0 => (-1.0, 0.0),
             r => r.to_radians().sin_cos(),
         };
-        UvTransform { columns: [Vec2::new(cos, sin) * scale.x, Vec2::new(-sin, cos) * scale.y], offset }
+        let columns = [Vec2::new(cos, sin) * scale.x, Vec2::new(-sin, cos) * scale.y];
+        UvTransform { columns, offset, diagonal: sin == 0.0 }
     }
 
     /// `scale` copies per unit of (u, v) and nothing else.
@@ -44,23 +48,53 @@ impl UvTransform {
     #[inline]
     pub fn point(&self, uv: Vec2) -> Vec2 {
         let [a, b] = self.columns;
+        if self.diagonal {
+            return Vec2::new(a.x * uv.x, b.y * uv.y) + self.offset;
+        }
         a * uv.x + b * uv.y + self.offset
     }
 
     #[inline]
     pub fn point8(&self, u: F8, v: F8) -> (F8, F8) {
         let [a, b] = self.columns;
+        let o = self.offset;
+        if self.diagonal {
+            return (F8::splat(a.x) * u + F8::splat(o.x), F8::splat(b.y) * v + F8::splat(o.y));
+        }
         let s = |a: f32, b: f32, o: f32| F8::splat(a) * u + F8::splat(b) * v + F8::splat(o);
-        (s(a.x, b.x, self.offset.x), s(a.y, b.y, self.offset.y))
+        (s(a.x, b.x, o.x), s(a.y, b.y, o.y))
     }
 
     /// The footprint of the transformed coordinates: A applied to each screen step.
     #[inline]
     pub fn footprint(&self, fp: &Footprint) -> Footprint {
         let [a, b] = self.columns;
+        if self.diagonal {
+            return Footprint { dudx: a.x * fp.dudx, dvdx: b.y * fp.dvdx, dudy: a.x * fp.dudy, dvdy: b.y * fp.dvdy };
+        }
         let dx = a * fp.dudx + b * fp.dvdx;
         let dy = a * fp.dudy + b * fp.dvdy;
         Footprint { dudx: dx.x, dvdx: dx.y, dudy: dy.x, dvdy: dy.y }
+    }
+}
+
+impl UvTransform {
+    /// `footprint` on eight lanes.
+    #[inline]
+    pub fn footprint8(&self, fp: &Footprint8) -> Footprint8 {
+        let [a, b] = self.columns;
+        let k = F8::splat;
+        if self.diagonal {
+            let (su, sv) = (k(a.x), k(b.y));
+            return Footprint8 { dudx: fp.dudx * su, dvdx: fp.dvdx * sv, dudy: fp.dudy * su, dvdy: fp.dvdy * sv };
+        }
+        let row = |x: f32, y: f32, du: F8, dv: F8| k(x) * du + k(y) * dv;
+        Footprint8 {
+            dudx: row(a.x, b.x, fp.dudx, fp.dvdx),
+            dvdx: row(a.y, b.y, fp.dudx, fp.dvdx),
+            dudy: row(a.x, b.x, fp.dudy, fp.dvdy),
+            dvdy: row(a.y, b.y, fp.dudy, fp.dvdy),
+        }
     }
 }
 

@@ -16,7 +16,7 @@ use crate::raster::visibility::EMPTY;
 use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
 use crate::scene::Scene;
 use crate::shade::{ShadeContext, ShadedSample};
-use crate::texture::{Filter, Footprint};
+use crate::texture::{Filter, Footprint8};
 use crate::{Error, Result};
 use glam::{Affine3A, Quat, Vec2, Vec3};
 use rayon::prelude::*;
@@ -368,14 +368,13 @@ impl TileJob<'_> {
         let at = vis.resolve8(&samples, &tris, inst.object, sx, sy);
         // Each of the spp stratified samples stands for its own 1/spp of the pixel: the texture filters
         // integrate over that cell, not the whole pixel again.
-        let [dudx, dvdx, dudy, dvdy] = at.duv.map(|d| (d * F8::splat(self.sample_cell)).to_array());
-        let footprints: [Footprint; LANES] =
-            std::array::from_fn(|i| Footprint { dudx: dudx[i], dvdx: dvdx[i], dudy: dudy[i], dvdy: dvdy[i] });
+        let [dudx, dvdx, dudy, dvdy] = at.duv.map(|d| d * F8::splat(self.sample_cell));
+        let footprint = Footprint8 { dudx, dvdx, dudy, dvdy };
         let max_step = self.max_steps[packet.surface as usize];
         let (uv, surface_frame) =
             refine_uv8(self.camera, inst.surface(), &inst.object_to_camera, at.uv, (sx, sy), max_step);
         let triangles = tris.map(|t| t.triangle);
-        let result = self.shade.shade8(inst, uv, &surface_frame, &footprints, triangles);
+        let result = self.shade.shade8(inst, uv, &surface_frame, footprint, triangles);
         for i in 0..packet.len {
             let uv = Vec2::new(uv.0.as_array_ref()[i], uv.1.as_array_ref()[i]);
             shaded[packet.samples[i]] = Shaded { shaded: result.lane(i), uv, object: inst.object };

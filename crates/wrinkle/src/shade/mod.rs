@@ -13,7 +13,7 @@ use crate::geometry::frame_lanes::Frame8;
 use crate::geometry::Instance;
 use crate::lanes::{CmpLt, F8, LANES, V3};
 use crate::light::Light;
-use crate::texture::{Filter, FilterOptions, Footprint, LookupContext8};
+use crate::texture::{Filter, FilterOptions, Footprint8, LookupContext8};
 use glam::Vec3;
 
 /// What the shader needs besides the surface: the eye, the lights, the materials and switches.
@@ -54,7 +54,7 @@ impl ShadedPacket {
 
 impl ShadeContext<'_> {
     /// Shades eight points of one surface at `uv` (whose frames are `frame` and whose screen derivatives are
-    /// `footprints`, on `triangles` of the tessellation). Lookups go through their lane forms; everything
+    /// `footprint`, on `triangles` of the tessellation). Lookups go through their lane forms; everything
     /// else runs on all lanes at once.
     #[inline]
     pub fn shade8(
@@ -62,11 +62,11 @@ impl ShadeContext<'_> {
         inst: &Instance,
         uv: (F8, F8),
         frame: &Frame8,
-        footprints: &[Footprint; LANES],
+        footprint: Footprint8,
         triangles: [u32; LANES],
     ) -> ShadedPacket {
         let material = &self.materials[inst.material];
-        let ctx = LookupContext8::on_surface(frame.p, frame.pu, frame.pv, uv, *footprints, inst.object, triangles);
+        let ctx = LookupContext8::on_surface(frame.p, frame.pu, frame.pv, uv, footprint, inst.object, triangles);
         let n_geo = ctx.n;
         let n_obj = match (&material.bump, self.bump_enabled) {
             (Some(bump), true) => {

@@ -3,7 +3,7 @@
 //! (crate::mapping) rewrites its texture coordinates; a texture reads what it needs: an image the
 //! coordinates and their footprint, a solid texture the point and the pixel's size.
 
-use super::Footprint;
+use super::{Footprint, Footprint8};
 use crate::lanes::{F8, LANES, V3};
 use glam::{Vec2, Vec3};
 
@@ -74,7 +74,7 @@ pub struct LookupContext8 {
     pub dpdv: V3,
     pub u: F8,
     pub v: F8,
-    pub footprints: [Footprint; LANES],
+    pub footprint: Footprint8,
     pub object: u32,
     pub triangles: [u32; LANES],
 }
@@ -87,21 +87,20 @@ impl LookupContext8 {
         dpdu: V3,
         dpdv: V3,
         uv: (F8, F8),
-        footprints: [Footprint; LANES],
+        footprint: Footprint8,
         object: u32,
         triangles: [u32; LANES],
     ) -> LookupContext8 {
-        let lane = |f: fn(&Footprint) -> f32| F8::new(footprints.map(|p| f(&p)));
         LookupContext8 {
             p,
-            dpdx: dpdu * lane(|p| p.dudx) + dpdv * lane(|p| p.dvdx),
-            dpdy: dpdu * lane(|p| p.dudy) + dpdv * lane(|p| p.dvdy),
+            dpdx: dpdu * footprint.dudx + dpdv * footprint.dvdx,
+            dpdy: dpdu * footprint.dudy + dpdv * footprint.dvdy,
             n: dpdu.cross(dpdv),
             dpdu,
             dpdv,
             u: uv.0,
             v: uv.1,
-            footprints,
+            footprint,
             object,
             triangles,
         }
@@ -117,7 +116,7 @@ impl LookupContext8 {
             dpdu: self.dpdu.lane(i),
             dpdv: self.dpdv.lane(i),
             uv: Vec2::new(self.u.as_array_ref()[i], self.v.as_array_ref()[i]),
-            footprint: self.footprints[i],
+            footprint: self.footprint.lane(i),
             primitive: PrimitiveId { object: self.object, triangle: self.triangles[i] },
         }
     }
@@ -144,16 +143,12 @@ mod tests {
         let lanes = |a: f32| V3::from_lanes(&std::array::from_fn(|k| v(k, a)));
         let uv = (F8::new(std::array::from_fn(|k| 0.1 * k as f32)), F8::splat(0.25));
         let triangles = std::array::from_fn(|k| 10 * k as u32);
-        let ctx8 = LookupContext8::on_surface(lanes(0.2), lanes(1.5), lanes(-0.7), uv, footprints, 3, triangles);
+        let fp8 = Footprint8::from_lanes(&footprints);
+        let ctx8 = LookupContext8::on_surface(lanes(0.2), lanes(1.5), lanes(-0.7), uv, fp8, 3, triangles);
         let widths = ctx8.pixel_widths();
-        for k in 0..LANES {
-            let mut want = LookupContext::on_surface(
-                v(k, 0.2),
-                v(k, 1.5),
-                v(k, -0.7),
-                Vec2::new(0.1 * k as f32, 0.25),
-                footprints[k],
-            );
+        for (k, &fp) in footprints.iter().enumerate() {
+            let mut want =
+                LookupContext::on_surface(v(k, 0.2), v(k, 1.5), v(k, -0.7), Vec2::new(0.1 * k as f32, 0.25), fp);
             want.primitive = PrimitiveId { object: 3, triangle: 10 * k as u32 };
             let got = ctx8.lane(k);
             for (a, b) in [(got.dpdx, want.dpdx), (got.dpdy, want.dpdy), (got.n, want.n)] {

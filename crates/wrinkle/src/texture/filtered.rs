@@ -140,7 +140,7 @@ impl Texture for FilteredTexture {
 
     fn eval8(&self, ctx: &LookupContext8) -> [F8; 4] {
         match (self.path, &*self.data) {
-            (Path::Trilinear8, Levels::Bytes(d)) => trilinear8(d.levels(), ctx.u, ctx.v, &ctx.footprints),
+            (Path::Trilinear8, Levels::Bytes(d)) => trilinear8(d.levels(), ctx.u, ctx.v, &ctx.footprint),
             _ => lane_by_lane(self, ctx),
         }
     }

@@ -1,5 +1,7 @@
 //! The pixel's footprint in texture space: the screen derivatives of (u,v).
 
+use crate::lanes::{F8, LANES};
+
 /// du/dx, dv/dx, du/dy, dv/dy: how far (u,v) moves across one pixel step in x and in y.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Footprint {
@@ -41,6 +43,29 @@ impl Footprint {
     pub fn in_texels(&self, width: usize, height: usize) -> [f32; 4] {
         let (w, h) = (width as f32, height as f32);
         [self.dudx * w, self.dvdx * h, self.dudy * w, self.dvdy * h]
+    }
+}
+
+/// Eight footprints as lanes (structure of arrays): what the rasterizer interpolates and the lane filters read.
+#[derive(Clone, Copy, Debug)]
+pub struct Footprint8 {
+    pub dudx: F8,
+    pub dvdx: F8,
+    pub dudy: F8,
+    pub dvdy: F8,
+}
+
+impl Footprint8 {
+    pub fn from_lanes(f: &[Footprint; LANES]) -> Footprint8 {
+        let lane = |get: fn(&Footprint) -> f32| F8::new(f.map(|p| get(&p)));
+        Footprint8 { dudx: lane(|p| p.dudx), dvdx: lane(|p| p.dvdx), dudy: lane(|p| p.dudy), dvdy: lane(|p| p.dvdy) }
+    }
+
+    /// The footprint of lane `i`.
+    #[inline]
+    pub fn lane(&self, i: usize) -> Footprint {
+        let at = |x: F8| x.as_array_ref()[i];
+        Footprint { dudx: at(self.dudx), dvdx: at(self.dvdx), dudy: at(self.dudy), dvdy: at(self.dvdy) }
     }
 }
 

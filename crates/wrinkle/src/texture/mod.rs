@@ -20,7 +20,7 @@ pub mod wrap;
 pub use context::{LookupContext, LookupContext8, PrimitiveId};
 pub use filter::{Filter, FilterOptions, Filterable};
 pub use filtered::{FilteredTexture, TextureOptions};
-pub use footprint::Footprint;
+pub use footprint::{Footprint, Footprint8};
 pub use mip::{LevelRule, MipFilter};
 pub use wrap::Wrap;
 

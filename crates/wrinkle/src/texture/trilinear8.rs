@@ -7,7 +7,7 @@
 use super::mip::level_pair;
 use super::rgba8::Rgba8Plane;
 use super::texel::TexelSource;
-use super::Footprint;
+use super::{Footprint, Footprint8};
 use crate::lanes::{permute, permute_f, sum_lanes, CmpGt, CmpLt, F8, I8, LANES};
 use glam::Vec4;
 
@@ -16,11 +16,10 @@ pub type Rgba8 = [F8; 4];
 
 /// The trilinear lookup at (s, t) (one period per unit, repeating) with footprints `fp` in the same units,
 /// the level chosen by the longest pixel axis (Williams 1983).
-pub fn trilinear8(levels: &[Rgba8Plane], s: F8, t: F8, fp: &[Footprint; LANES]) -> Rgba8 {
+pub fn trilinear8(levels: &[Rgba8Plane], s: F8, t: F8, fp: &Footprint8) -> Rgba8 {
     let (w, h) = (levels[0].width() as f32, levels[0].height() as f32);
-    let lane = |f: fn(&Footprint) -> f32| F8::new(fp.map(|p| f(&p)));
-    let (ux, vx) = (lane(|p| p.dudx) * F8::splat(w), lane(|p| p.dvdx) * F8::splat(h));
-    let (uy, vy) = (lane(|p| p.dudy) * F8::splat(w), lane(|p| p.dvdy) * F8::splat(h));
+    let (ux, vx) = (fp.dudx * F8::splat(w), fp.dvdx * F8::splat(h));
+    let (uy, vy) = (fp.dudy * F8::splat(w), fp.dvdy * F8::splat(h));
     let len2 = (ux * ux + vx * vx).max(uy * uy + vy * vy);
     let last = (levels.len() - 1) as f32;
     // log2 of the longer axis, from its square; 0 below one texel.
@@ -190,7 +189,7 @@ mod tests {
         });
         let s = F8::new([0.01, 0.5, 0.99, -0.2, 1.37, 0.25, 0.999_9, 3.5]);
         let t = F8::new([0.99, 0.02, 0.5, 2.75, -0.6, 0.33, 0.000_1, 0.5]);
-        let got = trilinear8(levels, s, t, &fp);
+        let got = trilinear8(levels, s, t, &Footprint8::from_lanes(&fp));
         for (i, fp) in fp.iter().enumerate() {
             let level = LevelRule::Longest.level(fp, w, h);
             let (si, ti) = (s.as_array_ref()[i], t.as_array_ref()[i]);
