@@ -105,6 +105,7 @@ pub fn scene(args: &BumpArgs, table: BumpTable, texture: Option<FilteredTexture>
         texture: texture.map(|t| MappedTexture { texture: Arc::new(t), mapping: Mapping::default() }),
         phong: Phong::new(args.specular, args.shininess),
         bump: Some(bump),
+        normal_map: None,
         specular_map: None,
     };
     Ok(Scene {

@@ -10,7 +10,7 @@
 use super::Gradient;
 use crate::geometry::frame_lanes::Frame8;
 use crate::geometry::SurfaceFrame;
-use crate::lanes::{F8, V3};
+use crate::lanes::{CmpGt, F8, V3};
 use glam::Vec3;
 
 /// Which normal a bump function produces.
@@ -67,6 +67,27 @@ pub fn perturbed_normal8(frame: &Frame8, g: [F8; 3], formula: BumpFormula) -> V3
             perturbed_normal(&frame.lane(i), Gradient { f: lane(f), fu: lane(fu), fv: lane(fv) }, formula)
         })),
     }
+}
+
+/// The perturbed normal of eight samples of flat triangles whose Pu x Pv may point against the outward
+/// normal (`side` = -1 on lanes where a mesh's uv are mirrored). The bump displaces along the outward
+/// normal, so N' = side N + D (D' for the invariant form); without second derivatives the full formula is
+/// Blinn's.
+#[inline]
+pub fn perturbed_normal_sided8(pu: V3, pv: V3, g: [F8; 3], formula: BumpFormula, side: F8) -> V3 {
+    let [_, fu, fv] = g;
+    let n = pu.cross(pv);
+    let d = blinn_d8(n, pu, pv, fu, fv);
+    let d = match formula {
+        BumpFormula::Blinn | BumpFormula::Full => d,
+        BumpFormula::Invariant => {
+            let len_d = d.length();
+            let a = (fu * fu + fv * fv).sqrt();
+            let k = len_d.cmp_gt(F8::ZERO).blend(a * n.length() / len_d, F8::ZERO);
+            d * k
+        }
+    };
+    n * side + d
 }
 
 /// The derivatives of the unit normal N^ = N/|N| along u and v, from the second derivatives of P.

@@ -8,10 +8,12 @@ pub mod integrate;
 pub mod normal_map;
 pub mod schlag;
 pub mod table;
+pub mod tangent_space;
 
 pub use blinn::BumpFormula;
 pub use function::{BumpMap, BumpSource};
 pub use table::{BumpTable, Interp};
+pub use tangent_space::TangentNormalMap;
 
 /// A bump function's value F and its derivatives along the two coordinates it was evaluated over: the
 /// table's (s,t) for a table lookup, the surface's (u,v) once a bump map has applied its chain rule.

@@ -3,11 +3,14 @@
 //! lands in each pixel.
 
 pub mod frame_lanes;
+pub mod mesh;
+pub mod mesh_lanes;
 pub mod shape;
 pub mod surface;
 pub mod tessellate;
 pub mod transform;
 
-pub use shape::{Instance, Primitive, Shape};
+pub use mesh::TriangleMesh;
+pub use shape::{Instance, MeshPart, Primitive, Shape};
 pub use surface::{Surface, SurfaceFrame};
 pub use transform::Transform;

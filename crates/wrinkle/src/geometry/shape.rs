@@ -1,10 +1,12 @@
-//! The shapes a scene names, and the primitives the renderer draws: every shape is made of parametric
-//! surfaces (a box of six patches), each placed in the world as an instance.
+//! The shapes a scene names, and the primitives the renderer draws: parametric surfaces (a box is six
+//! patches) and triangle meshes, each placed in the world as an instance.
 
+use super::mesh::TriangleMesh;
 use super::surface::Surface;
 use glam::{Affine3A, Mat3, Vec3};
+use std::sync::Arc;
 
-/// The shape of an object: one parametric surface, or a box made of six flat patches.
+/// The shape of an object: one parametric surface, a box made of six flat patches, or triangle meshes.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Shape {
     Surface(Surface),
@@ -12,6 +14,18 @@ pub enum Shape {
     Box {
         size: Vec3,
     },
+    /// The meshes of a model file, each with its own material.
+    Mesh(Vec<MeshPart>),
+}
+
+/// One mesh of a model with the material it is drawn with.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshPart {
+    pub mesh: Arc<TriangleMesh>,
+    /// Index into the scene's materials.
+    pub material: usize,
+    /// Drawn from both sides (glTF's doubleSided; OBJ meshes always), else back faces are culled.
+    pub two_sided: bool,
 }
 
 impl Shape {
@@ -33,6 +47,7 @@ impl Shape {
                 ];
                 faces.iter().map(|&corners| Primitive::Parametric(Surface::Patch { corners })).collect()
             }
+            Shape::Mesh(parts) => parts.iter().map(|p| Primitive::Mesh(p.mesh.clone())).collect(),
         }
     }
 
@@ -41,6 +56,7 @@ impl Shape {
         match self {
             Shape::Surface(s) => s.is_closed(),
             Shape::Box { .. } => true,
+            Shape::Mesh(_) => false,
         }
     }
 }
@@ -50,6 +66,8 @@ impl Shape {
 pub enum Primitive {
     /// A parametric surface: P(u,v) and its derivatives evaluated exactly at each sample's (u,v).
     Parametric(Surface),
+    /// A triangle mesh: each sample's ray meets its triangle, and the vertex data are interpolated there.
+    Mesh(Arc<TriangleMesh>),
 }
 
 /// One primitive placed in the world with its material.
@@ -57,6 +75,7 @@ pub struct Instance {
     pub primitive: Primitive,
     pub object_to_world: Affine3A,
     pub object_to_camera: Affine3A,
+    pub camera_to_object: Affine3A,
     /// The inverse transpose of `object_to_world`'s linear part: carries normals to the world.
     pub normal_matrix: Mat3,
     /// Index into the scene's materials.
@@ -68,7 +87,8 @@ pub struct Instance {
 }
 
 impl Instance {
-    /// Every primitive of `shape` placed by `object_to_world`, seen through `world_to_camera`.
+    /// Every primitive of `shape` placed by `object_to_world`, seen through `world_to_camera`, drawn with
+    /// `material` (mesh parts with their own).
     pub fn of_shape(
         shape: &Shape,
         object_to_world: Affine3A,
@@ -77,26 +97,22 @@ impl Instance {
         object: u32,
     ) -> Vec<Instance> {
         let normal_matrix = Mat3::from(object_to_world.matrix3).inverse().transpose();
-        let two_sided = !shape.is_closed();
-        shape
-            .primitives()
-            .into_iter()
-            .map(|primitive| Instance {
-                primitive,
-                object_to_world,
-                object_to_camera: world_to_camera * object_to_world,
-                normal_matrix,
-                material,
-                object,
-                two_sided,
-            })
-            .collect()
-    }
-
-    /// The parametric surface of the instance.
-    pub fn surface(&self) -> &Surface {
-        match &self.primitive {
-            Primitive::Parametric(s) => s,
+        let object_to_camera = world_to_camera * object_to_world;
+        let place = |primitive: Primitive, material: usize, two_sided: bool| Instance {
+            primitive,
+            object_to_world,
+            object_to_camera,
+            camera_to_object: object_to_camera.inverse(),
+            normal_matrix,
+            material,
+            object,
+            two_sided,
+        };
+        match shape {
+            Shape::Mesh(parts) => {
+                parts.iter().map(|p| place(Primitive::Mesh(p.mesh.clone()), p.material, p.two_sided)).collect()
+            }
+            _ => shape.primitives().into_iter().map(|p| place(p, material, !shape.is_closed())).collect(),
         }
     }
 }

@@ -1,6 +1,8 @@
 //! The camera: a right-handed frame looking down its -Z axis, perspective or orthographic projection
 //! onto a screen of pixels with row 0 at the top.
 
+use crate::geometry::mesh_lanes::Rays8;
+use crate::lanes::{F8, V3};
 use glam::{Affine3A, Vec2, Vec3};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -96,6 +98,33 @@ impl Camera {
                 let origin = self.camera_to_world.transform_point3(Vec3::new(x, y, 0.0));
                 (origin, self.camera_to_world.transform_vector3(-Vec3::Z).normalize())
             }
+        }
+    }
+}
+
+impl Camera {
+    /// The camera-space rays through eight screen positions (directions not unit), with their changes per
+    /// `step` pixels right and down: the ray differentials of a sample whose footprint is `step` pixels.
+    #[inline]
+    pub fn rays8(&self, sx: F8, sy: F8, step: f32) -> Rays8 {
+        let k = F8::splat(1.0 / self.scale);
+        let x = (sx - F8::splat(0.5 * self.width as f32)) * k;
+        let y = (F8::splat(0.5 * self.height as f32) - sy) * k;
+        let s = V3::splat;
+        let (right, down) = (s(Vec3::new(step / self.scale, 0.0, 0.0)), s(Vec3::new(0.0, -step / self.scale, 0.0)));
+        match self.projection {
+            Projection::Perspective { .. } => Rays8 {
+                origin: s(Vec3::ZERO),
+                dir: V3 { x, y, z: F8::splat(-1.0) },
+                dx: (s(Vec3::ZERO), right),
+                dy: (s(Vec3::ZERO), down),
+            },
+            Projection::Orthographic { .. } => Rays8 {
+                origin: V3 { x, y, z: F8::ZERO },
+                dir: s(-Vec3::Z),
+                dx: (right, s(Vec3::ZERO)),
+                dy: (down, s(Vec3::ZERO)),
+            },
         }
     }
 }

@@ -152,13 +152,14 @@ impl<'a> TriangleSetup<'a> {
     pub fn project_vertices(
         &self,
         positions: &[Vec3],
-        uvs: &[Vec2],
+        uvs: Option<&[Vec2]>,
         object_to_camera: &Affine3A,
     ) -> Vec<ProjectedVertex> {
+        let uv = |k: usize| uvs.map_or(Vec2::ZERO, |u| u[k]);
         positions
             .iter()
-            .zip(uvs)
-            .map(|(&p, &uv)| self.project(ClipVertex { pos: object_to_camera.transform_point3(p), uv }))
+            .enumerate()
+            .map(|(k, &p)| self.project(ClipVertex { pos: object_to_camera.transform_point3(p), uv: uv(k) }))
             .collect()
     }
 

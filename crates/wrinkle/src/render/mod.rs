@@ -5,8 +5,9 @@ mod frame;
 
 pub use frame::{Aovs, Frame, Stats};
 
+use crate::geometry::mesh_lanes;
 use crate::geometry::tessellate::{grid, segments_for, Mesh};
-use crate::geometry::Instance;
+use crate::geometry::{Instance, Primitive, TriangleMesh};
 use crate::lanes::{F8, LANES};
 use crate::light::Light;
 use crate::procedural::hypertexture::Hypertexture;
@@ -15,7 +16,7 @@ use crate::raster::setup::ProjectedVertex;
 use crate::raster::visibility::EMPTY;
 use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
 use crate::scene::Scene;
-use crate::shade::{ShadeContext, ShadedSample};
+use crate::shade::{ShadeContext, ShadedSample, SurfaceSamples8};
 use crate::texture::{Filter, Footprint8};
 use crate::{Error, Result};
 use glam::{Affine3A, Quat, Vec2, Vec3};
@@ -106,21 +107,30 @@ pub fn render_with_progress(
 
     let t = Instant::now();
     let instances = instances(scene, &camera, options.turntable_degrees);
-    let meshes: Vec<Mesh> = instances
+    let meshes: Vec<Triangles> = instances
         .par_iter()
-        .map(|inst| {
-            let (nu, nv) = segments_for(inst.surface(), SEGMENT_PX, SAG_PX, |p| {
-                camera.pixels_per_unit(inst.object_to_world.transform_point3(p))
-            });
-            grid(inst.surface(), nu, nv)
+        .map(|inst| match &inst.primitive {
+            Primitive::Parametric(surface) => {
+                let (nu, nv) = segments_for(surface, SEGMENT_PX, SAG_PX, |p| {
+                    camera.pixels_per_unit(inst.object_to_world.transform_point3(p))
+                });
+                Triangles::Grid(grid(surface, nu, nv))
+            }
+            Primitive::Mesh(mesh) => Triangles::Mesh(mesh),
         })
         .collect();
-    let max_steps: Vec<Vec2> =
-        meshes.iter().map(|m| Vec2::new(1.0 / m.segments.0 as f32, 1.0 / m.segments.1 as f32)).collect();
+    let max_steps: Vec<Vec2> = meshes
+        .iter()
+        .map(|m| match m {
+            Triangles::Grid(g) => Vec2::new(1.0 / g.segments.0 as f32, 1.0 / g.segments.1 as f32),
+            Triangles::Mesh(_) => Vec2::ZERO,
+        })
+        .collect();
     stats.tessellate_ms = ms(t);
 
     let t = Instant::now();
-    let triangles = setup_triangles(&camera, &instances, &meshes);
+    let first_triangles = first_triangles(&instances, &meshes);
+    let triangles = setup_triangles(&camera, &instances, &meshes, &first_triangles);
     stats.triangles = triangles.len();
     stats.setup_ms = ms(t);
 
@@ -149,6 +159,7 @@ pub fn render_with_progress(
         bins: &bins,
         camera: &camera,
         max_steps: &max_steps,
+        first_triangles: &first_triangles,
         triangles: &triangles,
         pattern: &pattern,
         instances: &instances,
@@ -206,31 +217,71 @@ fn instances(scene: &Scene, camera: &Camera, turntable_degrees: f32) -> Vec<Inst
     out
 }
 
+/// The triangles the rasterizer draws for one instance: a parametric surface's tessellation, or a mesh's
+/// own triangles (borrowed, not copied).
+enum Triangles<'a> {
+    Grid(Mesh),
+    Mesh(&'a TriangleMesh),
+}
+
+impl Triangles<'_> {
+    fn positions(&self) -> &[Vec3] {
+        match self {
+            Triangles::Grid(g) => &g.positions,
+            Triangles::Mesh(m) => &m.positions,
+        }
+    }
+
+    fn uvs(&self) -> Option<&[Vec2]> {
+        match self {
+            Triangles::Grid(g) => Some(&g.uvs),
+            Triangles::Mesh(m) => m.uvs(0),
+        }
+    }
+
+    fn triangles(&self) -> &[[u32; 3]] {
+        match self {
+            Triangles::Grid(g) => &g.triangles,
+            Triangles::Mesh(m) => &m.triangles,
+        }
+    }
+}
+
+/// Each primitive's first triangle's number within its object: the triangles of the object's earlier
+/// primitives come first.
+fn first_triangles(instances: &[Instance], meshes: &[Triangles]) -> Vec<u32> {
+    let mut first = vec![0u32; instances.len()];
+    for s in 1..instances.len() {
+        if instances[s].object == instances[s - 1].object {
+            first[s] = first[s - 1] + meshes[s - 1].triangles().len() as u32;
+        }
+    }
+    first
+}
+
 /// Clips, projects and sets up every triangle, in parallel over chunks, keeping submission order.
-fn setup_triangles(camera: &Camera, instances: &[Instance], meshes: &[Mesh]) -> Vec<ScreenTriangle> {
+fn setup_triangles(
+    camera: &Camera,
+    instances: &[Instance],
+    meshes: &[Triangles],
+    first: &[u32],
+) -> Vec<ScreenTriangle> {
     const CHUNK: usize = 8192;
     let projector = TriangleSetup::new(camera);
     let projected: Vec<Vec<ProjectedVertex>> = instances
         .par_iter()
         .zip(meshes)
-        .map(|(inst, mesh)| projector.project_vertices(&mesh.positions, &mesh.uvs, &inst.object_to_camera))
+        .map(|(inst, mesh)| projector.project_vertices(mesh.positions(), mesh.uvs(), &inst.object_to_camera))
         .collect();
-    // Each triangle's index within its object: the triangles of the object's earlier primitives come first.
-    let mut first = vec![0u32; instances.len()];
-    for s in 1..instances.len() {
-        if instances[s].object == instances[s - 1].object {
-            first[s] = first[s - 1] + meshes[s - 1].triangles.len() as u32;
-        }
-    }
     let jobs: Vec<(usize, usize)> = meshes
         .iter()
         .enumerate()
-        .flat_map(|(s, m)| (0..m.triangles.len()).step_by(CHUNK).map(move |start| (s, start)))
+        .flat_map(|(s, m)| (0..m.triangles().len()).step_by(CHUNK).map(move |start| (s, start)))
         .collect();
     let parts: Vec<Vec<ScreenTriangle>> = jobs
         .par_iter()
         .map(|&(s, start)| {
-            let tris = &meshes[s].triangles;
+            let tris = meshes[s].triangles();
             let mut setup = TriangleSetup::new(camera);
             setup.add_triangles(
                 &projected[s],
@@ -260,6 +311,8 @@ struct TileJob<'a> {
     camera: &'a Camera,
     /// Per surface, the longest (u,v) step of the ray-exact refinement: one tessellation segment.
     max_steps: &'a [Vec2],
+    /// Per surface, the number within its object of its first triangle.
+    first_triangles: &'a [u32],
     triangles: &'a [ScreenTriangle],
     pattern: &'a SamplePattern,
     instances: &'a [Instance],
@@ -368,13 +421,31 @@ impl TileJob<'_> {
         let at = vis.resolve8(&samples, &tris, inst.object, sx, sy);
         // Each of the spp stratified samples stands for its own 1/spp of the pixel: the texture filters
         // integrate over that cell, not the whole pixel again.
-        let [dudx, dvdx, dudy, dvdy] = at.duv.map(|d| d * F8::splat(self.sample_cell));
-        let footprint = Footprint8 { dudx, dvdx, dudy, dvdy };
-        let max_step = self.max_steps[packet.surface as usize];
-        let (uv, surface_frame) =
-            refine_uv8(self.camera, inst.surface(), &inst.object_to_camera, at.uv, (sx, sy), max_step);
         let triangles = tris.map(|t| t.triangle);
-        let result = self.shade.shade8(inst, uv, &surface_frame, footprint, triangles);
+        let samples = match &inst.primitive {
+            Primitive::Parametric(surface) => {
+                let [dudx, dvdx, dudy, dvdy] = at.duv.map(|d| d * F8::splat(self.sample_cell));
+                let max_step = self.max_steps[packet.surface as usize];
+                let (uv, frame) = refine_uv8(self.camera, surface, &inst.object_to_camera, at.uv, (sx, sy), max_step);
+                SurfaceSamples8 { frame, uv, footprint: Footprint8 { dudx, dvdx, dudy, dvdy }, triangles, mesh: None }
+            }
+            Primitive::Mesh(mesh) => {
+                // The mesh's own triangle numbers: the object's numbering less its earlier primitives'.
+                let first = self.first_triangles[packet.surface as usize];
+                let local = triangles.map(|t| t - first);
+                let rays = self.camera.rays8(sx, sy, self.sample_cell).transformed(&inst.camera_to_object);
+                let m = mesh_lanes::sample8(mesh, &local, &rays);
+                SurfaceSamples8 {
+                    frame: m.frame,
+                    uv: m.uv,
+                    footprint: m.footprint,
+                    triangles,
+                    mesh: Some(m.orientation),
+                }
+            }
+        };
+        let uv = samples.uv;
+        let result = self.shade.shade8(inst, &samples);
         for i in 0..packet.len {
             let uv = Vec2::new(uv.0.as_array_ref()[i], uv.1.as_array_ref()[i]);
             shaded[packet.samples[i]] = Shaded { shaded: result.lane(i), uv, object: inst.object };

@@ -2,6 +2,7 @@
 
 use super::fields::{number_value, points, vec3_value, Fields};
 use super::procedural;
+use super::texture::{parse_normal_map, parse_texture, Role};
 use super::{CameraDesc, Object, Scene};
 use crate::bump::function::filter_choices;
 use crate::bump::generators::{BrickParams, Generator, GridParams, RivetParams, TextParams};
@@ -238,7 +239,7 @@ fn parse_object(path: &str, v: &Value, base: &Path, material_index: usize) -> Re
         None => Transform::default(),
     };
     let material = match f.get("material") {
-        Some(m) => parse_material(&f.at("material"), m, base)?,
+        Some(m) => parse_material(&f.at("material"), m, base, default_material())?,
         None => default_material(),
     };
     Ok((Object { shape, transform, material: material_index }, material))
@@ -262,33 +263,50 @@ fn parse_transform(path: &str, v: &Value) -> Result<Transform> {
     })
 }
 
-fn default_material() -> Material {
-    Material { color: Vec3::splat(0.8), texture: None, phong: Phong::new(0.0, 20.0), bump: None, specular_map: None }
+/// The material of an object that names none: grey, matte.
+pub(super) fn default_material() -> Material {
+    Material {
+        color: Vec3::splat(0.8),
+        texture: None,
+        phong: Phong::new(0.0, 20.0),
+        bump: None,
+        normal_map: None,
+        specular_map: None,
+    }
 }
 
-fn parse_material(path: &str, v: &Value, base: &Path) -> Result<Material> {
-    let f = Fields::new(path, v, &["color", "texture", "filter", "specular", "shininess", "bump", "specular_map"])?;
+const MATERIAL_FIELDS: &[&str] =
+    &["color", "texture", "filter", "specular", "shininess", "bump", "normal_map", "specular_map"];
+
+/// A material table; the fields it gives replace those of `under` (the default material, or the one a
+/// model file gives its mesh).
+fn parse_material(path: &str, v: &Value, base: &Path, under: Material) -> Result<Material> {
+    let f = Fields::new(path, v, MATERIAL_FIELDS)?;
     let texture = match f.get("texture") {
-        Some(t) => Some(super::texture::parse_texture(&f.at("texture"), t, &f, base)?),
+        Some(t) => Some(parse_texture(&f.at("texture"), t, &f, base, Role::Colour)?),
         None if f.get("filter").is_some() => return Err(Error::scene(f.at("filter"), "only with a texture")),
-        None => None,
+        None => under.texture,
     };
-    let bump = match f.get("bump") {
-        Some(b) => Some(parse_bump(&f.at("bump"), b, base)?),
-        None => None,
+    let (bump, normal_map) = match (f.get("bump"), f.get("normal_map")) {
+        (Some(_), Some(_)) => return Err(Error::scene(f.at("normal_map"), "give bump or normal_map, not both")),
+        (Some(b), None) => (Some(parse_bump(&f.at("bump"), b, base)?), None),
+        (None, Some(n)) => (None, Some(parse_normal_map(&f.at("normal_map"), n, &f, base)?)),
+        (None, None) => (under.bump, under.normal_map),
+    };
+    let specular_map = match f.get("specular_map") {
+        Some(t) => Some(parse_texture(&f.at("specular_map"), t, &f, base, Role::Data)?),
+        None => under.specular_map,
     };
     Ok(Material {
-        color: colour(&f, "color", Vec3::splat(0.8))?,
+        color: colour(&f, "color", under.color)?,
         texture,
         phong: Phong::new(
-            f.number_where("specular", Some(0.0), non_negative, "a non-negative number")?,
-            f.number_where("shininess", Some(20.0), positive, "a positive exponent")?,
+            f.number_where("specular", Some(under.phong.specular), non_negative, "a non-negative number")?,
+            f.number_where("shininess", Some(under.phong.shininess), positive, "a positive exponent")?,
         ),
         bump,
-        specular_map: f
-            .get("specular_map")
-            .map(|t| super::texture::parse_texture(&f.at("specular_map"), t, &f, base))
-            .transpose()?,
+        normal_map,
+        specular_map,
     })
 }
 

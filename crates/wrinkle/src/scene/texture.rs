@@ -4,9 +4,11 @@
 
 use super::fields::{numbers, Fields};
 use super::load::{resolve, uv_transform};
+use crate::bump::normal_map::Convention;
+use crate::bump::TangentNormalMap;
 use crate::image::io;
 use crate::mapping::{MappedTexture, Mapping, UvTransform};
-use crate::texture::{Filter, FilterOptions, FilteredTexture, LevelRule, MipFilter, Texture, TextureOptions, Wrap};
+use crate::texture::{Filter, FilterOptions, FilteredTexture, LevelRule, MipFilter, TextureOptions, Wrap};
 use crate::{Error, Result};
 use glam::Vec4;
 use std::path::Path;
@@ -15,22 +17,66 @@ use toml::Value;
 
 const TEXTURE_FIELDS: &[&str] =
     &["path", "filter", "wrap", "border", "srgb", "repeat", "offset", "rotate", "mipmap", "level", "max_aniso"];
+/// A normal map's fields beside the texture's.
+const NORMAL_MAP_FIELDS: &[&str] = &["strength", "convention"];
 
-/// The texture at `path` (the material's `texture` field); `material` is the material table, whose
-/// `filter` applies to the short form.
-pub fn parse_texture(path: &str, v: &Value, material: &Fields, base: &Path) -> Result<MappedTexture> {
+/// What a texture is for: a colour is decoded from sRGB unless `srgb = false`; data (specular, normal
+/// maps) are read as stored unless `srgb = true`.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub enum Role {
+    Colour,
+    Data,
+}
+
+/// The texture at `path` (the material's `texture` field, or a data map's); `material` is the material
+/// table, whose `filter` applies to the colour texture's short form.
+pub fn parse_texture(path: &str, v: &Value, material: &Fields, base: &Path, role: Role) -> Result<MappedTexture> {
+    parse_texture_with(path, v, material, base, role, &[])
+}
+
+/// A tangent-space normal map: a data texture with `strength` (default 1, glTF's scale) and `convention`
+/// (`"opengl"`, the default: green up the picture, or `"directx"`).
+pub fn parse_normal_map(path: &str, v: &Value, material: &Fields, base: &Path) -> Result<TangentNormalMap> {
+    let texture = parse_texture_with(path, v, material, base, Role::Data, NORMAL_MAP_FIELDS)?;
+    let (strength, convention) = match v {
+        Value::Table(_) => {
+            let f = Fields::new(path, v, &[TEXTURE_FIELDS, NORMAL_MAP_FIELDS].concat())?;
+            let finite = |x: f32| x.is_finite();
+            let conventions = [("opengl", Convention::OpenGl), ("directx", Convention::DirectX)];
+            (
+                f.number_where("strength", Some(1.0), finite, "a finite number")?,
+                f.choice("convention", Convention::OpenGl, &conventions)?,
+            )
+        }
+        _ => (1.0, Convention::OpenGl),
+    };
+    Ok(TangentNormalMap { texture, strength, convention })
+}
+
+fn parse_texture_with(
+    path: &str,
+    v: &Value,
+    material: &Fields,
+    base: &Path,
+    role: Role,
+    extra: &[&str],
+) -> Result<MappedTexture> {
     if super::procedural::is_procedural(v) {
         let texture = Arc::new(super::procedural::parse_texture(path, v)?);
         return Ok(MappedTexture { texture, mapping: Mapping::default() });
     }
-    let beside = material.choice("filter", None, &filter_choices())?;
+    let beside = match role {
+        Role::Colour => material.choice("filter", None, &filter_choices())?,
+        Role::Data => None,
+    };
+    let srgb_default = role == Role::Colour;
     let (file, options, srgb, transform) = match v {
         Value::String(s) => {
             let filter = FilterOptions { filter: beside.unwrap_or(Filter::Trilinear), ..FilterOptions::default() };
-            (s.as_str(), TextureOptions { filter, ..TextureOptions::default() }, true, UvTransform::IDENTITY)
+            (s.as_str(), TextureOptions { filter, ..TextureOptions::default() }, srgb_default, UvTransform::IDENTITY)
         }
         _ => {
-            let f = Fields::new(path, v, TEXTURE_FIELDS)?;
+            let f = Fields::new(path, v, &[TEXTURE_FIELDS, extra].concat())?;
             if beside.is_some() && f.get("filter").is_some() {
                 return Err(Error::scene(
                     material.at("filter"),
@@ -59,14 +105,19 @@ pub fn parse_texture(path: &str, v: &Value, material: &Fields, base: &Path) -> R
                 mip_filter: f.choice("mipmap", MipFilter::Box, &MipFilter::NAMES)?,
                 filter,
             };
-            (file, options, f.boolean("srgb", true)?, uv_transform(&f)?)
+            (file, options, f.boolean("srgb", srgb_default)?, uv_transform(&f)?)
         }
     };
-    let texture: Arc<dyn Texture> = Arc::new(match io::load_texels(&resolve(base, file), srgb)? {
+    let texture = Arc::new(load_texture(&resolve(base, file), srgb, options)?);
+    Ok(MappedTexture { texture, mapping: Mapping::uv(transform) })
+}
+
+/// An image file as a filtered texture.
+pub fn load_texture(file: &Path, srgb: bool, options: TextureOptions) -> Result<FilteredTexture> {
+    Ok(match io::load_texels(file, srgb)? {
         io::Texels::Rgba8(image) => FilteredTexture::from_rgba8(&image, srgb, options),
         io::Texels::Linear(image) => FilteredTexture::new(&image, options),
-    });
-    Ok(MappedTexture { texture, mapping: Mapping::uv(transform) })
+    })
 }
 
 fn filter_choices() -> Vec<(&'static str, Option<Filter>)> {

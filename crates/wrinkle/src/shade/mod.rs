@@ -8,8 +8,9 @@ pub mod phong;
 pub use material::Material;
 pub use phong::Phong;
 
-use crate::bump::blinn::perturbed_normal8;
+use crate::bump::blinn::{perturbed_normal8, perturbed_normal_sided8};
 use crate::geometry::frame_lanes::Frame8;
+use crate::geometry::mesh_lanes::MeshFrame8;
 use crate::geometry::Instance;
 use crate::lanes::{CmpLt, F8, LANES, V3};
 use crate::light::Light;
@@ -52,29 +53,50 @@ impl ShadedPacket {
     }
 }
 
+/// Eight samples of one primitive as the shader receives them.
+pub struct SurfaceSamples8 {
+    /// P, Pu, Pv (and the second derivatives of parametric surfaces) in object space.
+    pub frame: Frame8,
+    pub uv: (F8, F8),
+    pub footprint: Footprint8,
+    /// Each sample's triangle, numbered within its object.
+    pub triangles: [u32; LANES],
+    /// What a mesh adds: which way Pu x Pv points and its own tangent frame. `None` on parametric
+    /// surfaces, whose Pu x Pv is the outward normal and whose tangent runs along Pu.
+    pub mesh: Option<MeshFrame8>,
+}
+
 impl ShadeContext<'_> {
-    /// Shades eight points of one surface at `uv` (whose frames are `frame` and whose screen derivatives are
-    /// `footprint`, on `triangles` of the tessellation). Lookups go through their lane forms; everything
-    /// else runs on all lanes at once.
+    /// Shades eight samples of one primitive. Lookups go through their lane forms; everything else runs
+    /// on all lanes at once.
     #[inline]
-    pub fn shade8(
-        &self,
-        inst: &Instance,
-        uv: (F8, F8),
-        frame: &Frame8,
-        footprint: Footprint8,
-        triangles: [u32; LANES],
-    ) -> ShadedPacket {
+    pub fn shade8(&self, inst: &Instance, at: &SurfaceSamples8) -> ShadedPacket {
         let material = &self.materials[inst.material];
-        let ctx = LookupContext8::on_surface(frame.p, frame.pu, frame.pv, uv, footprint, inst.object, triangles);
-        let n_geo = ctx.n;
-        let n_obj = match (&material.bump, self.bump_enabled) {
-            (Some(bump), true) => {
+        let frame = &at.frame;
+        let ctx =
+            LookupContext8::on_surface(frame.p, frame.pu, frame.pv, at.uv, at.footprint, inst.object, at.triangles);
+        let n_geo = match &at.mesh {
+            Some(m) => ctx.n * m.side,
+            None => ctx.n,
+        };
+        let n_obj = match (&material.bump, &material.normal_map, self.bump_enabled) {
+            (Some(bump), _, true) => {
                 let filter = match self.bump_filter {
                     Some(filter) => FilterOptions { filter, ..bump.filter },
                     None => bump.filter,
                 };
-                perturbed_normal8(frame, bump.eval8(&ctx, &filter), bump.formula)
+                let g = bump.eval8(&ctx, &filter);
+                match &at.mesh {
+                    None => perturbed_normal8(frame, g, bump.formula),
+                    Some(m) => perturbed_normal_sided8(frame.pu, frame.pv, g, bump.formula, m.side),
+                }
+            }
+            (None, Some(map), true) => {
+                let n = n_geo.normalize_or_zero();
+                match &at.mesh {
+                    None => map.normal8(&ctx, n, frame.pu.normalize_or_zero(), F8::ONE),
+                    Some(m) => map.normal8(&ctx, n, m.tangent, m.tangent_sign),
+                }
             }
             _ => n_geo,
         };

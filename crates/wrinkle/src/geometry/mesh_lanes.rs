@@ -1,0 +1,207 @@
+//! Eight samples of a triangle mesh at once. Each sample's ray (and the rays one pixel step to the right
+//! and below, its ray differentials) meets the plane of its triangle; barycentrics of the three points give
+//! the interpolated texture coordinates and their screen derivatives, the vertex normals' blend and the
+//! tangents. The point lies exactly on the ray, whatever clipping did to the screen triangle.
+//!
+//! The frame handed to the shader is Pu, Pv from the triangle's uv gradients (Blinn's bumps on meshes),
+//! projected into the plane of the smooth normal, so that Pu x Pv runs along it (or against it, `side`
+//! = -1, where the uv are mirrored).
+
+use super::frame_lanes::Frame8;
+use super::mesh::TriangleMesh;
+use crate::lanes::{CmpGt, CmpLt, F8, LANES, V3};
+use crate::texture::Footprint8;
+use glam::{Vec2, Vec3};
+
+/// Rays of eight samples in object space, with their changes across one pixel step in x and in y.
+#[derive(Clone, Copy, Debug)]
+pub struct Rays8 {
+    pub origin: V3,
+    pub dir: V3,
+    /// (origin, direction) changes per step in x, and in y.
+    pub dx: (V3, V3),
+    pub dy: (V3, V3),
+}
+
+impl Rays8 {
+    /// The rays carried by `m` (camera space to object space).
+    #[inline]
+    pub fn transformed(&self, m: &glam::Affine3A) -> Rays8 {
+        let v = |d: V3| V3::transform_vector(m, d);
+        Rays8 {
+            origin: V3::transform_point(m, self.origin),
+            dir: v(self.dir),
+            dx: (v(self.dx.0), v(self.dx.1)),
+            dy: (v(self.dy.0), v(self.dy.1)),
+        }
+    }
+}
+
+/// What the shader needs of eight mesh samples.
+#[derive(Clone, Copy, Debug)]
+pub struct MeshSample8 {
+    /// P and the shading-plane tangents Pu, Pv (no second derivatives: triangles are flat).
+    pub frame: Frame8,
+    pub uv: (F8, F8),
+    pub footprint: Footprint8,
+    pub orientation: MeshFrame8,
+}
+
+/// The orientation of eight mesh samples' frames.
+#[derive(Clone, Copy, Debug)]
+pub struct MeshFrame8 {
+    /// +1 where Pu x Pv runs along the smooth (outward) normal, -1 where against it (mirrored uv).
+    pub side: F8,
+    /// The unit tangent of the normal map (perpendicular to the smooth normal) and its bitangent sign w:
+    /// the bitangent is w (N x T).
+    pub tangent: V3,
+    pub tangent_sign: F8,
+}
+
+/// Samples `mesh` where `rays` meet the triangles `tris` (one per lane), texture coordinates from set 0.
+pub fn sample8(mesh: &TriangleMesh, tris: &[u32; LANES], rays: &Rays8) -> MeshSample8 {
+    let corner = |c: usize| tris.map(|t| mesh.triangles[t as usize][c] as usize);
+    let corners = [corner(0), corner(1), corner(2)];
+    let gather = |data: &[Vec3], c: usize| V3::from_lanes(&corners[c].map(|k| data[k]));
+    let [v0, v1, v2] = [0, 1, 2].map(|c| gather(&mesh.positions, c));
+    let [n0, n1, n2] = [0, 1, 2].map(|c| gather(&mesh.normals, c));
+    let uvs = mesh.uvs(0);
+    let uv = |c: usize| {
+        let at: [Vec2; LANES] = corners[c].map(|k| uvs.map_or(Vec2::ZERO, |u| u[k]));
+        (F8::new(at.map(|p| p.x)), F8::new(at.map(|p| p.y)))
+    };
+    let (uv0, uv1, uv2) = (uv(0), uv(1), uv(2));
+
+    let (e1, e2) = (v1 - v0, v2 - v0);
+    let ng = e1.cross(e2);
+    let hit = |o: V3, d: V3| o + d * (ng.dot(v0 - o) / ng.dot(d));
+    let p = hit(rays.origin, rays.dir);
+    let px = hit(rays.origin + rays.dx.0, rays.dir + rays.dx.1);
+    let py = hit(rays.origin + rays.dy.0, rays.dir + rays.dy.1);
+    let (dpdx, dpdy) = (px - p, py - p);
+
+    // Barycentrics (b1, b2) of a point w = P - v0 in the plane, and of a step in it.
+    let (d00, d01, d11) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
+    let inv = F8::ONE / (d00 * d11 - d01 * d01);
+    let bary = |w: V3| {
+        let (a, b) = (w.dot(e1), w.dot(e2));
+        ((d11 * a - d01 * b) * inv, (d00 * b - d01 * a) * inv)
+    };
+    let (b1, b2) = bary(p - v0);
+    let b0 = F8::ONE - b1 - b2;
+    let (b1x, b2x) = bary(dpdx);
+    let (b1y, b2y) = bary(dpdy);
+
+    // Texture coordinates and their derivatives across the pixel.
+    let du1 = (uv1.0 - uv0.0, uv1.1 - uv0.1);
+    let du2 = (uv2.0 - uv0.0, uv2.1 - uv0.1);
+    let along = |bx: F8, by: F8| (du1.0 * bx + du2.0 * by, du1.1 * bx + du2.1 * by);
+    let (dudx, dvdx) = along(b1x, b2x);
+    let (dudy, dvdy) = along(b1y, b2y);
+    let uv = (uv0.0 + du1.0 * b1 + du2.0 * b2, uv0.1 + du1.1 * b1 + du2.1 * b2);
+
+    // Pu, Pv from the uv gradients: [e1 e2] = [Pu Pv] [du1 du2]. Without usable uv any right-handed pair
+    // around the face normal will do (there is then nothing to take derivatives along).
+    let det = du1.0 * du2.1 - du1.1 * du2.0;
+    let usable = det.abs().cmp_gt(F8::splat(1e-20)) & det.is_finite();
+    let inv_det = F8::ONE / det;
+    let pu_uv = (e1 * du2.1 - e2 * du1.1) * inv_det;
+    let pv_uv = (e2 * du1.0 - e1 * du2.0) * inv_det;
+    let pv_plain = ng.normalize_or_zero().cross(e1);
+    let pu = V3::select(usable, pu_uv, e1);
+    let pv = V3::select(usable, pv_uv, pv_plain);
+
+    // The smooth normal (the face's where the vertex normals cancel), and the tangents in its plane.
+    let blend = n0 * b0 + n1 * b1 + n2 * b2;
+    let smooth = blend.dot(blend).cmp_gt(F8::splat(1e-24));
+    let ns = V3::select(smooth, blend, ng).normalize_or_zero();
+    let flat = |t: V3| t - ns * ns.dot(t);
+    let (pu, pv) = (flat(pu), flat(pv));
+    let side = pu.cross(pv).dot(ns).cmp_lt(F8::ZERO).blend(F8::splat(-1.0), F8::ONE);
+
+    let (tangent, tangent_sign) = if mesh.tangents.is_empty() {
+        (pu.normalize_or_zero(), side)
+    } else {
+        let t = |c: usize| {
+            let at = corners[c].map(|k| mesh.tangents[k]);
+            (V3::from_lanes(&at.map(|t| t.truncate())), F8::new(at.map(|t| t.w)))
+        };
+        let ((t0, w0), (t1, _), (t2, _)) = (t(0), t(1), t(2));
+        (flat(t0 * b0 + t1 * b1 + t2 * b2).normalize_or_zero(), w0)
+    };
+    let zero = V3::splat(Vec3::ZERO);
+    MeshSample8 {
+        frame: Frame8 { p, pu, pv, puu: zero, puv: zero, pvv: zero },
+        uv,
+        footprint: Footprint8 { dudx, dvdx, dudy, dvdy },
+        orientation: MeshFrame8 { side, tangent, tangent_sign },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::{Vec2, Vec4};
+
+    /// A tilted triangle with uv (0,0), (2,0), (0,1) at its corners, seen along -z from above.
+    fn triangle() -> TriangleMesh {
+        let positions = vec![Vec3::ZERO, Vec3::new(2.0, 0.0, 0.5), Vec3::new(0.0, 1.0, 0.0)];
+        let mut m = TriangleMesh {
+            positions,
+            uv_sets: vec![vec![Vec2::ZERO, Vec2::new(2.0, 0.0), Vec2::new(0.0, 1.0)]],
+            triangles: vec![[0, 1, 2]],
+            ..TriangleMesh::default()
+        };
+        m.compute_normals();
+        m
+    }
+
+    fn rays(points: [Vec2; LANES], step: f32) -> Rays8 {
+        let s = V3::splat;
+        let origin = V3::from_lanes(&points.map(|p| Vec3::new(p.x, p.y, 5.0)));
+        Rays8 {
+            origin,
+            dir: s(-Vec3::Z),
+            dx: (s(Vec3::new(step, 0.0, 0.0)), s(Vec3::ZERO)),
+            dy: (s(Vec3::new(0.0, step, 0.0)), s(Vec3::ZERO)),
+        }
+    }
+
+    #[test]
+    fn points_lie_on_their_rays_and_carry_the_plane_uv() {
+        let m = triangle();
+        let points: [Vec2; LANES] = std::array::from_fn(|i| Vec2::new(0.1 + 0.15 * i as f32, 0.05 + 0.08 * i as f32));
+        let s = sample8(&m, &[0; LANES], &rays(points, 0.01));
+        for (i, q) in points.iter().enumerate() {
+            // On the plane z = x / 4, and u = x, v = y there (the uv are affine in x, y on this triangle).
+            let p = s.frame.p.lane(i);
+            assert!((p - Vec3::new(q.x, q.y, q.x / 4.0)).length() < 1e-5, "{p}");
+            let (u, v) = (s.uv.0.as_array_ref()[i], s.uv.1.as_array_ref()[i]);
+            assert!((u - q.x).abs() < 1e-5 && (v - q.y).abs() < 1e-5);
+            let fp = s.footprint.lane(i);
+            assert!((fp.dudx - 0.01).abs() < 1e-6 && fp.dvdx.abs() < 1e-6 && (fp.dvdy - 0.01).abs() < 1e-6);
+            // Pu = dP/du along the triangle, Pv = dP/dv, both in the flat face's plane.
+            assert!((s.frame.pu.lane(i) - Vec3::new(1.0, 0.0, 0.25)).length() < 1e-5);
+            assert!((s.frame.pv.lane(i) - Vec3::Y).length() < 1e-5);
+            assert_eq!(s.orientation.side.as_array_ref()[i], 1.0);
+        }
+    }
+
+    #[test]
+    fn mirrored_uv_turn_the_side_and_tangents_come_from_the_mesh() {
+        let mut m = triangle();
+        m.uv_sets[0].iter_mut().for_each(|uv| uv.x = -uv.x);
+        let s = sample8(&m, &[0; LANES], &rays([Vec2::new(0.3, 0.2); LANES], 0.01));
+        assert_eq!(s.orientation.side.as_array_ref()[0], -1.0);
+        // The default tangent is Pu's direction with the side as its sign: the bitangent runs along +v.
+        let n = m.normals[0];
+        let b = s.orientation.tangent_sign.as_array_ref()[0] * n.cross(s.orientation.tangent.lane(0));
+        assert!(b.dot(Vec3::Y) > 0.99, "{b}");
+        m.tangents = vec![Vec4::new(0.0, 1.0, 0.0, -1.0); 3];
+        let s = sample8(&m, &[0; LANES], &rays([Vec2::new(0.3, 0.2); LANES], 0.01));
+        assert!(
+            (s.orientation.tangent.lane(3) - Vec3::Y).length() < 1e-6
+                && s.orientation.tangent_sign.as_array_ref()[3] == -1.0
+        );
+    }
+}
