@@ -7,7 +7,7 @@ use super::{CameraDesc, Object, Scene};
 use crate::bump::function::filter_choices;
 use crate::bump::generators::{BrickParams, Generator, GridParams, RivetParams, TextParams};
 use crate::bump::{BumpFormula, BumpMap, BumpSource, BumpTable};
-use crate::geometry::{Shape, Surface, Transform};
+use crate::geometry::{MeshPart, Shape, Surface, Transform};
 use crate::image::io;
 use crate::light::Light;
 use crate::mapping::{Mapping, UvTransform};
@@ -54,9 +54,7 @@ impl Scene {
         let mut objects = Vec::new();
         let mut materials = Vec::new();
         for (i, v) in top.tables("object")?.iter().enumerate() {
-            let (object, material) = parse_object(&format!("objects[{i}]"), v, base, materials.len())?;
-            objects.push(object);
-            materials.push(material);
+            objects.push(parse_object(&format!("objects[{i}]"), v, base, &mut materials)?);
         }
         let volumes = top
             .tables("volume")?
@@ -177,6 +175,8 @@ const SHAPE_FIELDS: &[&str] = &[
     "shape",
     "transform",
     "material",
+    "file",
+    "two_sided",
     "radius",
     "height",
     "major_radius",
@@ -186,9 +186,22 @@ const SHAPE_FIELDS: &[&str] = &[
     "size",
 ];
 
-fn parse_object(path: &str, v: &Value, base: &Path, material_index: usize) -> Result<(Object, Material)> {
+/// An object, its material and (for a model file) its meshes' materials, pushed onto `materials`.
+fn parse_object(path: &str, v: &Value, base: &Path, materials: &mut Vec<Material>) -> Result<Object> {
     let f = Fields::new(path, v, SHAPE_FIELDS)?;
     let kind = f.required("shape", f.string("shape")?)?;
+    let transform = match f.get("transform") {
+        Some(t) => parse_transform(&f.at("transform"), t)?,
+        None => Transform::default(),
+    };
+    if kind == "mesh" {
+        f.only_of_kind(&SHAPE_FIELDS[3..], &["file", "two_sided"], "shape \"mesh\"")?;
+        let shape = parse_mesh(&f, base, materials)?;
+        return Ok(Object { shape, transform, material: materials.len() - 1 });
+    }
+    if let Some(key) = ["file", "two_sided"].into_iter().find(|k| f.get(k).is_some()) {
+        return Err(Error::scene(f.at(key), "only for shape = \"mesh\""));
+    }
     let allowed: &[&str] = match kind {
         "sphere" => &["radius"],
         "cylinder" => &["radius", "height"],
@@ -199,7 +212,9 @@ fn parse_object(path: &str, v: &Value, base: &Path, material_index: usize) -> Re
         other => {
             return Err(Error::scene(
                 f.at("shape"),
-                format!("unknown shape \"{other}\" (expected one of sphere, cylinder, torus, patch, bicubic, box)"),
+                format!(
+                    "unknown shape \"{other}\" (expected one of sphere, cylinder, torus, patch, bicubic, box, mesh)"
+                ),
             ))
         }
     };
@@ -234,15 +249,40 @@ fn parse_object(path: &str, v: &Value, base: &Path, material_index: usize) -> Re
             Shape::Box { size }
         }
     };
-    let transform = match f.get("transform") {
-        Some(t) => parse_transform(&f.at("transform"), t)?,
-        None => Transform::default(),
-    };
     let material = match f.get("material") {
         Some(m) => parse_material(&f.at("material"), m, base, default_material())?,
         None => default_material(),
     };
-    Ok((Object { shape, transform, material: material_index }, material))
+    materials.push(material);
+    Ok(Object { shape, transform, material: materials.len() - 1 })
+}
+
+/// A model file's meshes, each with the file's material under the fields of the scene's `material`.
+fn parse_mesh(f: &Fields, base: &Path, materials: &mut Vec<Material>) -> Result<Shape> {
+    let file = resolve(base, f.required("file", f.string("file")?)?);
+    let two_sided = match f.get("two_sided") {
+        Some(_) => Some(f.boolean("two_sided", true)?),
+        None => None,
+    };
+    let mut parts = Vec::new();
+    for part in super::model::load(&file)? {
+        let material = match f.get("material") {
+            Some(m) => parse_material(&f.at("material"), m, base, part.material)?,
+            None => part.material,
+        };
+        let mut mesh = part.mesh;
+        // Normal maps need tangents; MikkTSpace makes them where the file has none.
+        if material.normal_map.is_some() && mesh.tangents.is_empty() && !mesh.generate_tangents(0) {
+            return Err(Error::read(&file, "has a normal map but no texture coordinates to lay it with"));
+        }
+        materials.push(material);
+        parts.push(MeshPart {
+            mesh: Arc::new(mesh),
+            material: materials.len() - 1,
+            two_sided: two_sided.unwrap_or(part.two_sided),
+        });
+    }
+    Ok(Shape::Mesh(parts))
 }
 
 fn parse_transform(path: &str, v: &Value) -> Result<Transform> {

@@ -2,7 +2,10 @@
 //! and validated on load.
 
 mod fields;
+mod gltf;
 mod load;
+mod model;
+mod obj;
 mod procedural;
 mod texture;
 

@@ -1,0 +1,248 @@
+//! glTF 2.0 models (.gltf with its buffers and images, or one .glb) through the `gltf` crate: the default
+//! scene's node hierarchy with every node's transform baked into its meshes, each primitive with its
+//! material: baseColorFactor and baseColorTexture, normalTexture with its scale, the samplers' wrap and
+//! filter modes, KHR_texture_transform, doubleSided. Texture coordinates are flipped into the project's
+//! convention (v up): glTF's v runs down the image.
+
+use super::load::default_material;
+use super::model::ModelPart;
+use crate::bump::normal_map::Convention;
+use crate::bump::TangentNormalMap;
+use crate::geometry::TriangleMesh;
+use crate::image::color::srgb_to_linear;
+use crate::image::Image;
+use crate::mapping::{MappedTexture, Mapping, UvTransform};
+use crate::shade::{Material, Phong};
+use crate::texture::reconstruct::Kernel;
+use crate::texture::{Filter, FilterOptions, FilteredTexture, Texture, TextureOptions, Wrap};
+use crate::{Error, Result};
+use glam::{Affine3A, Mat4, Vec2, Vec3, Vec4};
+use gltf::image::Format;
+use gltf::mesh::Mode;
+use std::collections::HashMap;
+use std::path::Path;
+use std::sync::Arc;
+
+/// Every primitive of the file's default scene (or its first), placed by its node's world transform.
+pub fn load(path: &Path) -> Result<Vec<ModelPart>> {
+    let (document, buffers, images) = gltf::import(path).map_err(|e| Error::read(path, gltf_error(&e)))?;
+    let fail = |m: String| Error::read(path, m);
+    let scene =
+        document.default_scene().or_else(|| document.scenes().next()).ok_or_else(|| fail("has no scene".into()))?;
+    let mut textures = Textures { images: &images, cache: HashMap::new() };
+    let mut parts = Vec::new();
+    let mut stack: Vec<(gltf::Node, Mat4)> = scene.nodes().map(|n| (n, Mat4::IDENTITY)).collect();
+    while let Some((node, parent)) = stack.pop() {
+        let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+        stack.extend(node.children().map(|c| (c, world)));
+        let Some(mesh) = node.mesh() else { continue };
+        let name = mesh.name().map_or_else(|| format!("mesh {}", mesh.index()), |n| format!("mesh \"{n}\""));
+        for primitive in mesh.primitives() {
+            let what = format!("{name}, primitive {}", primitive.index());
+            if primitive.mode() != Mode::Triangles {
+                return Err(fail(format!("{what}: only triangle lists are drawn, not {:?}", primitive.mode())));
+            }
+            let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+            let positions: Vec<Vec3> = reader
+                .read_positions()
+                .ok_or_else(|| fail(format!("{what} has no POSITION")))?
+                .map(Vec3::from_array)
+                .collect();
+            let triangles: Vec<[u32; 3]> = match reader.read_indices() {
+                Some(indices) => {
+                    let flat: Vec<u32> = indices.into_u32().collect();
+                    if flat.len() % 3 != 0 {
+                        return Err(fail(format!("{what}: {} indices are not whole triangles", flat.len())));
+                    }
+                    flat.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect()
+                }
+                None => (0..positions.len() as u32 / 3).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect(),
+            };
+            let flip = |uv: [f32; 2]| Vec2::new(uv[0], 1.0 - uv[1]);
+            let uv_sets: Vec<Vec<Vec2>> =
+                (0..2).map_while(|set| reader.read_tex_coords(set).map(|t| t.into_f32().map(flip).collect())).collect();
+            let mut m = TriangleMesh {
+                positions,
+                normals: reader.read_normals().map_or_else(Vec::new, |n| n.map(Vec3::from_array).collect()),
+                uv_sets,
+                tangents: reader.read_tangents().map_or_else(Vec::new, |t| t.map(Vec4::from_array).collect()),
+                triangles,
+            };
+            m.validate().map_err(|e| fail(format!("{what} {e}")))?;
+            if m.normals.is_empty() {
+                m.compute_normals();
+            } else {
+                m.repair_normals();
+            }
+            let gm = primitive.material();
+            let material = material(&gm, &mut textures).map_err(|e| fail(format!("{what}: {e}")))?;
+            let transform = Affine3A::from_mat4(world);
+            parts.push(ModelPart { mesh: m.transformed(&transform), material, two_sided: gm.double_sided() });
+        }
+    }
+    if parts.is_empty() {
+        return Err(fail("has no meshes in its scene".into()));
+    }
+    Ok(parts)
+}
+
+fn gltf_error(e: &gltf::Error) -> String {
+    match e {
+        gltf::Error::Io(io) if io.kind() == std::io::ErrorKind::NotFound => "no such file (or one it refers to)".into(),
+        other => format!("malformed glTF: {other}"),
+    }
+}
+
+/// The file's images as textures, each built once per colour space and sampler.
+struct Textures<'a> {
+    images: &'a [gltf::image::Data],
+    cache: HashMap<(usize, bool, Option<usize>), Arc<dyn Texture>>,
+}
+
+impl Textures<'_> {
+    /// The texture of `info` with its sampler and texture transform; `srgb` for colour.
+    fn get(
+        &mut self,
+        texture: gltf::Texture,
+        tex_coord: u32,
+        transform: Option<gltf::texture::TextureTransform>,
+        srgb: bool,
+    ) -> std::result::Result<MappedTexture, String> {
+        let set = transform.as_ref().and_then(|t| t.tex_coord()).unwrap_or(tex_coord);
+        if set != 0 {
+            return Err(format!("texture {} reads TEXCOORD_{set}; only TEXCOORD_0 is drawn", texture.index()));
+        }
+        let sampler = texture.sampler();
+        let image = texture.source().index();
+        let key = (image, srgb, sampler.index());
+        let built = match self.cache.get(&key) {
+            Some(t) => t.clone(),
+            None => {
+                let data = self.images.get(image).ok_or_else(|| format!("image {image} is missing"))?;
+                let options = TextureOptions {
+                    wrap: [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())],
+                    filter: FilterOptions { filter: filter(sampler.min_filter()), ..FilterOptions::default() },
+                    ..TextureOptions::default()
+                };
+                let t: Arc<dyn Texture> = Arc::new(texture_of(data, srgb, options)?);
+                self.cache.insert(key, t.clone());
+                t
+            }
+        };
+        let uv = match transform {
+            Some(t) => khr_texture_transform(t.offset(), t.rotation(), t.scale()),
+            None => UvTransform::IDENTITY,
+        };
+        Ok(MappedTexture { texture: built, mapping: Mapping::uv(uv) })
+    }
+}
+
+/// KHR_texture_transform's st = T R S uv in glTF's coordinates (v down, rotation clockwise on the image),
+/// carried into the project's (v up): s = x + sin(r) sy + cos(r) sx u - sin(r) sy v,
+/// t = 1 - y - cos(r) sy + sin(r) sx u + cos(r) sy v, a counter-clockwise rotation by r.
+fn khr_texture_transform(offset: [f32; 2], rotation: f32, scale: [f32; 2]) -> UvTransform {
+    let (sin, cos) = rotation.sin_cos();
+    let o = Vec2::new(offset[0] + sin * scale[1], 1.0 - offset[1] - cos * scale[1]);
+    UvTransform::new(o, rotation.to_degrees(), Vec2::from_array(scale))
+}
+
+fn wrap(w: gltf::texture::WrappingMode) -> Wrap {
+    match w {
+        gltf::texture::WrappingMode::ClampToEdge => Wrap::Clamp,
+        gltf::texture::WrappingMode::MirroredRepeat => Wrap::Mirror,
+        gltf::texture::WrappingMode::Repeat => Wrap::Repeat,
+    }
+}
+
+/// The sampler's minification filter as one of ours: no MIP maps reconstruct, a MIP filter is trilinear
+/// (the best a viewer without anisotropy draws; `filter` in the scene picks any other).
+fn filter(min: Option<gltf::texture::MinFilter>) -> Filter {
+    use gltf::texture::MinFilter as M;
+    match min {
+        Some(M::Nearest) => Filter::Reconstruct(Kernel::Nearest),
+        Some(M::Linear) => Filter::Reconstruct(Kernel::Bilinear),
+        Some(M::NearestMipmapNearest | M::LinearMipmapNearest) => Filter::MipNearest,
+        _ => Filter::Trilinear,
+    }
+}
+
+/// A decoded image as a texture: 8-bit formats stay 8-bit, 16-bit and float ones become linear f32.
+fn texture_of(
+    data: &gltf::image::Data,
+    srgb: bool,
+    options: TextureOptions,
+) -> std::result::Result<FilteredTexture, String> {
+    let (w, h) = (data.width as usize, data.height as usize);
+    let channels = match data.format {
+        Format::R8 | Format::R16 => 1,
+        Format::R8G8 | Format::R16G16 => 2,
+        Format::R8G8B8 | Format::R16G16B16 | Format::R32G32B32FLOAT => 3,
+        Format::R8G8B8A8 | Format::R16G16B16A16 | Format::R32G32B32A32FLOAT => 4,
+    };
+    // Grey is spread to RGB; grey and alpha keeps its alpha.
+    let rgba = |c: &[f32], one: f32| match channels {
+        1 => [c[0], c[0], c[0], one],
+        2 => [c[0], c[0], c[0], c[1]],
+        3 => [c[0], c[1], c[2], one],
+        _ => [c[0], c[1], c[2], c[3]],
+    };
+    match data.format {
+        Format::R8 | Format::R8G8 | Format::R8G8B8 | Format::R8G8B8A8 => {
+            let px: Vec<[u8; 4]> = data
+                .pixels
+                .chunks_exact(channels)
+                .map(|c| {
+                    let f: Vec<f32> = c.iter().map(|&b| b as f32).collect();
+                    rgba(&f, 255.0).map(|x| x as u8)
+                })
+                .collect();
+            check_size(&px, w, h)?;
+            Ok(FilteredTexture::from_rgba8(&Image { width: w, height: h, pixels: px }, srgb, options))
+        }
+        _ => {
+            let values: Vec<f32> = match data.format {
+                Format::R32G32B32FLOAT | Format::R32G32B32A32FLOAT => {
+                    data.pixels.chunks_exact(4).map(|b| f32::from_ne_bytes([b[0], b[1], b[2], b[3]])).collect()
+                }
+                _ => data.pixels.chunks_exact(2).map(|b| u16::from_ne_bytes([b[0], b[1]]) as f32 / 65535.0).collect(),
+            };
+            let px: Vec<[f32; 4]> = values
+                .chunks_exact(channels)
+                .map(|c| {
+                    let [r, g, b, a] = rgba(c, 1.0);
+                    let decode = |x: f32| if srgb { srgb_to_linear(x) } else { x };
+                    [decode(r), decode(g), decode(b), a]
+                })
+                .collect();
+            check_size(&px, w, h)?;
+            Ok(FilteredTexture::new(&Image { width: w, height: h, pixels: px }, options))
+        }
+    }
+}
+
+fn check_size<T>(px: &[T], w: usize, h: usize) -> std::result::Result<(), String> {
+    if w == 0 || h == 0 || px.len() != w * h {
+        return Err(format!("an image of {w}x{h} pixels holds {} pixels", px.len()));
+    }
+    Ok(())
+}
+
+/// A glTF material as Blinn-Phong: the base colour (factor times texture), the normal map with its
+/// scale; metallic-roughness has no Blinn-Phong counterpart and is left out.
+fn material(m: &gltf::Material, textures: &mut Textures) -> std::result::Result<Material, String> {
+    let pbr = m.pbr_metallic_roughness();
+    let [r, g, b, _] = pbr.base_color_factor();
+    let texture = match pbr.base_color_texture() {
+        Some(info) => Some(textures.get(info.texture(), info.tex_coord(), info.texture_transform(), true)?),
+        None => None,
+    };
+    let normal_map = match m.normal_texture() {
+        Some(n) => Some(TangentNormalMap {
+            texture: textures.get(n.texture(), n.tex_coord(), None, false)?,
+            strength: n.scale(),
+            convention: Convention::OpenGl,
+        }),
+        None => None,
+    };
+    Ok(Material { color: Vec3::new(r, g, b), texture, phong: Phong::new(0.04, 40.0), normal_map, ..default_material() })
+}

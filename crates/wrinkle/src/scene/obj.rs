@@ -1,0 +1,232 @@
+//! Wavefront OBJ models through `tobj`, with their .mtl materials: Kd, Ks, Ns, map_Kd (colour), map_Ks
+//! (specular), bump / map_Bump with `-bm` (a height map for Blinn's bump mapping), norm (a tangent-space
+//! normal map). Texture options `-bm`, `-o`, `-s` and `-clamp` are read; the other standard options are
+//! accepted and ignored.
+
+use super::load::default_material;
+use super::model::ModelPart;
+use super::texture::load_texture;
+use crate::bump::normal_map::Convention;
+use crate::bump::{BumpFormula, BumpMap, BumpSource, BumpTable, TangentNormalMap};
+use crate::geometry::TriangleMesh;
+use crate::image::io;
+use crate::mapping::{MappedTexture, Mapping, UvTransform};
+use crate::shade::{Material, Phong};
+use crate::texture::{Filter, FilterOptions, TextureOptions, Wrap};
+use crate::{Error, Result};
+use glam::{Vec2, Vec3};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// The meshes of an OBJ file, one per object and material, with the materials of its .mtl.
+pub fn load(path: &Path) -> Result<Vec<ModelPart>> {
+    let options = tobj::LoadOptions { single_index: true, triangulate: true, ..tobj::LoadOptions::default() };
+    let (models, materials) = tobj::load_obj(path, &options).map_err(|e| Error::read(path, obj_error(&e)))?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let materials = match materials {
+        Ok(m) => m,
+        // A missing .mtl is an error only when a face asks for one of its materials.
+        Err(_) if models.iter().all(|m| m.mesh.material_id.is_none()) => Vec::new(),
+        Err(e) => return Err(Error::read(path, format!("its material library: {}", obj_error(&e)))),
+    };
+    let materials =
+        materials.iter().map(|m| material(m, dir).map(Arc::new)).collect::<Result<Vec<Arc<ObjMaterial>>>>()?;
+    let mut parts = Vec::new();
+    for model in &models {
+        let m = &model.mesh;
+        if m.indices.is_empty() {
+            continue;
+        }
+        let positions = m.positions.chunks_exact(3).map(|p| Vec3::new(p[0], p[1], p[2])).collect();
+        let normals = m.normals.chunks_exact(3).map(|n| Vec3::new(n[0], n[1], n[2])).collect();
+        let uvs: Vec<Vec2> = m.texcoords.chunks_exact(2).map(|t| Vec2::new(t[0], t[1])).collect();
+        let mut mesh = TriangleMesh {
+            positions,
+            normals,
+            uv_sets: if uvs.is_empty() { vec![] } else { vec![uvs] },
+            tangents: vec![],
+            triangles: m.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect(),
+        };
+        mesh.validate().map_err(|e| Error::read(path, format!("object \"{}\" {e}", model.name)))?;
+        if mesh.normals.is_empty() {
+            mesh.compute_normals();
+        } else {
+            mesh.repair_normals();
+        }
+        let material = match m.material_id {
+            Some(k) => {
+                let mtl = materials.get(k).ok_or_else(|| {
+                    Error::read(path, format!("object \"{}\" names material {k}, which its .mtl lacks", model.name))
+                })?;
+                mtl.material()
+            }
+            None => default_material(),
+        };
+        parts.push(ModelPart { mesh, material, two_sided: true });
+    }
+    if parts.is_empty() {
+        return Err(Error::read(path, "has no triangles"));
+    }
+    Ok(parts)
+}
+
+fn obj_error(e: &tobj::LoadError) -> String {
+    match e {
+        tobj::LoadError::OpenFileFailed => "no such file, or it cannot be opened".into(),
+        other => format!("malformed OBJ: {other}"),
+    }
+}
+
+/// An .mtl material with its textures loaded once, however many meshes use it.
+struct ObjMaterial {
+    color: Vec3,
+    specular: f32,
+    shininess: f32,
+    texture: Option<MappedTexture>,
+    specular_map: Option<MappedTexture>,
+    bump: Option<(Arc<BumpTable>, f32, UvTransform)>,
+    normal_map: Option<MappedTexture>,
+}
+
+impl ObjMaterial {
+    fn material(&self) -> Material {
+        Material {
+            color: self.color,
+            texture: self.texture.clone(),
+            phong: Phong::new(self.specular, self.shininess),
+            bump: self.bump.as_ref().map(|(table, scale, transform)| BumpMap {
+                source: BumpSource::Table(table.clone()),
+                scale: *scale,
+                mapping: Mapping::uv(*transform),
+                formula: BumpFormula::Blinn,
+                filter: FilterOptions { filter: Filter::Trilinear, ..FilterOptions::default() },
+            }),
+            normal_map: self.normal_map.as_ref().map(|texture| TangentNormalMap {
+                texture: texture.clone(),
+                strength: 1.0,
+                convention: Convention::OpenGl,
+            }),
+            specular_map: self.specular_map.clone(),
+        }
+    }
+}
+
+fn material(m: &tobj::Material, dir: &Path) -> Result<ObjMaterial> {
+    let mean = |c: [f32; 3]| (c[0] + c[1] + c[2]) / 3.0;
+    let map = |spec: &Option<String>, srgb: bool| -> Result<Option<(MappedTexture, f32)>> {
+        let Some(spec) = spec else { return Ok(None) };
+        let map = MapSpec::parse(spec, dir).map_err(|e| Error::read(dir.join(spec), e))?;
+        let wrap = if map.clamp { Wrap::Clamp } else { Wrap::Repeat };
+        let options = TextureOptions { wrap: [wrap; 2], ..TextureOptions::default() };
+        let texture = Arc::new(load_texture(&map.file, srgb, options)?);
+        Ok(Some((MappedTexture { texture, mapping: Mapping::uv(map.transform) }, map.bump_multiplier)))
+    };
+    let bump = match &m.normal_texture {
+        // tobj reads both bump and map_Bump into `normal_texture`: a height map.
+        Some(spec) => {
+            let map = MapSpec::parse(spec, dir).map_err(|e| Error::read(dir.join(spec), e))?;
+            let table = Arc::new(BumpTable::new(&io::load_grey(&map.file)?));
+            Some((table, 0.01 * map.bump_multiplier, map.transform))
+        }
+        None => None,
+    };
+    Ok(ObjMaterial {
+        color: m.diffuse.map_or(Vec3::splat(0.8), Vec3::from_array),
+        specular: m.specular.map_or(0.0, mean),
+        // Ns runs 0..1000; Blinn-Phong needs a positive exponent.
+        shininess: m.shininess.map_or(20.0, |n| n.max(1.0)),
+        texture: map(&m.diffuse_texture, true)?.map(|(t, _)| t),
+        specular_map: map(&m.specular_texture, false)?.map(|(t, _)| t),
+        bump,
+        normal_map: map(&m.unknown_param.get("norm").cloned(), false)?.map(|(t, _)| t),
+    })
+}
+
+/// A texture statement of an .mtl: `[options] file`.
+struct MapSpec {
+    file: PathBuf,
+    /// `-bm`: the bump multiplier.
+    bump_multiplier: f32,
+    /// `-o` and `-s`: offset and scale of (u, v).
+    transform: UvTransform,
+    /// `-clamp on`.
+    clamp: bool,
+}
+
+impl MapSpec {
+    fn parse(spec: &str, dir: &Path) -> std::result::Result<MapSpec, String> {
+        let words: Vec<&str> = spec.split_whitespace().collect();
+        let (mut bump_multiplier, mut offset, mut scale, mut clamp) = (1.0, Vec2::ZERO, Vec2::ONE, false);
+        let mut k = 0;
+        let number = |w: Option<&&str>, option: &str| -> std::result::Result<f32, String> {
+            w.and_then(|w| w.parse::<f32>().ok())
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| format!("texture option {option} needs a number"))
+        };
+        while k + 1 < words.len() && words[k].starts_with('-') {
+            let option = words[k];
+            // Up to three numbers follow -o and -s; the others take a fixed count.
+            let numbers = |k: usize| {
+                (1..=3)
+                    .take_while(|&i| {
+                        words.get(k + i).is_some_and(|w| w.parse::<f32>().is_ok()) && k + i + 1 < words.len()
+                    })
+                    .count()
+            };
+            match option {
+                "-bm" => {
+                    bump_multiplier = number(words.get(k + 1), option)?;
+                    k += 2;
+                }
+                "-o" | "-s" => {
+                    let n = numbers(k);
+                    if n == 0 {
+                        return Err(format!("texture option {option} needs numbers"));
+                    }
+                    let x = number(words.get(k + 1), option)?;
+                    let y = if n >= 2 { number(words.get(k + 2), option)? } else { x };
+                    if option == "-o" {
+                        offset = Vec2::new(x, y);
+                    } else {
+                        scale = Vec2::new(x, y);
+                    }
+                    k += 1 + n;
+                }
+                "-clamp" => {
+                    clamp = words[k + 1] == "on";
+                    k += 2;
+                }
+                "-blendu" | "-blendv" | "-cc" | "-imfchan" | "-type" | "-texres" | "-boost" => k += 2,
+                "-mm" => k += 3,
+                "-t" => k += 1 + numbers(k),
+                other => return Err(format!("unknown texture option {other}")),
+            }
+        }
+        let file = words[k..].join(" ");
+        if file.is_empty() {
+            return Err("a texture statement names no file".into());
+        }
+        if scale.min_element() <= 0.0 {
+            return Err("texture option -s needs positive scales".into());
+        }
+        Ok(MapSpec { file: dir.join(file), bump_multiplier, transform: UvTransform::new(offset, 0.0, scale), clamp })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn texture_statements_with_options() {
+        let d = Path::new("/m");
+        let s = MapSpec::parse("-bm 0.5 bricks.png", d).unwrap();
+        assert_eq!((s.file, s.bump_multiplier, s.clamp), (PathBuf::from("/m/bricks.png"), 0.5, false));
+        let s = MapSpec::parse("-s 2 3 1 -o 0.5 -clamp on my map.png", d).unwrap();
+        assert_eq!(s.file, PathBuf::from("/m/my map.png"));
+        assert_eq!(s.transform, UvTransform::new(Vec2::new(0.5, 0.5), 0.0, Vec2::new(2.0, 3.0)));
+        assert!(s.clamp);
+        assert!(MapSpec::parse("-bogus 1 a.png", d).unwrap_err().contains("-bogus"));
+        assert!(MapSpec::parse("-bm x a.png", d).unwrap_err().contains("-bm"));
+    }
+}
