@@ -51,7 +51,7 @@ pub fn load(path: &Path) -> Result<Vec<ModelPart>> {
             let triangles: Vec<[u32; 3]> = match reader.read_indices() {
                 Some(indices) => {
                     let flat: Vec<u32> = indices.into_u32().collect();
-                    if flat.len() % 3 != 0 {
+                    if !flat.len().is_multiple_of(3) {
                         return Err(fail(format!("{what}: {} indices are not whole triangles", flat.len())));
                     }
                     flat.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect()

@@ -29,8 +29,13 @@ pub fn load(path: &Path) -> Result<Vec<ModelPart>> {
         Err(_) if models.iter().all(|m| m.mesh.material_id.is_none()) => Vec::new(),
         Err(e) => return Err(Error::read(path, format!("its material library: {}", obj_error(&e)))),
     };
-    let materials =
-        materials.iter().map(|m| material(m, dir).map(Arc::new)).collect::<Result<Vec<Arc<ObjMaterial>>>>()?;
+    let materials = materials
+        .iter()
+        .map(|m| {
+            let named = |e: Error| Error::read(path, format!("material \"{}\": {e}", m.name));
+            material(m, dir).map(Arc::new).map_err(named)
+        })
+        .collect::<Result<Vec<Arc<ObjMaterial>>>>()?;
     let mut parts = Vec::new();
     for model in &models {
         let m = &model.mesh;

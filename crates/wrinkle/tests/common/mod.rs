@@ -3,6 +3,8 @@
 //! intersections, angles, scratch folders and a one-call render of scene text with every AOV.
 #![allow(dead_code)]
 
+pub mod gltf;
+
 use glam::{DMat3, DVec3, Vec3};
 use std::path::{Path, PathBuf};
 use wrinkle::render::Aovs;

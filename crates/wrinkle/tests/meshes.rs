@@ -1,0 +1,194 @@
+//! Meshes from model files against what their formats' specifications imply: glTF normal maps with and
+//! without tangents (MikkTSpace), mirrored texture coordinates, node transforms, every loader path (glTF
+//! embedded, with a .bin, GLB; OBJ with its .mtl), and one clear error for every broken file.
+
+mod common;
+
+use common::gltf::{png_of, File, Layout, Primitive};
+use common::{angle_deg, d3, render_all_aovs, scratch_dir};
+use glam::{DVec3, Vec3};
+use std::path::Path;
+use wrinkle::Scene;
+
+/// A 2x2 quad in z = 0 facing +z, u along +x (flipped when `mirrored`), glTF's v down the image.
+fn quad(tangents: Option<[f32; 4]>, mirrored: bool) -> Primitive {
+    let u = |x: f32| if mirrored { 1.0 - x } else { x };
+    Primitive {
+        positions: vec![[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]],
+        normals: Some(vec![[0.0, 0.0, 1.0]; 4]),
+        uvs: Some(vec![[u(0.0), 1.0], [u(1.0), 1.0], [u(1.0), 0.0], [u(0.0), 0.0]]),
+        tangents: tangents.map(|t| vec![t; 4]),
+        indices: vec![0, 1, 2, 0, 2, 3],
+    }
+}
+
+/// The scene: the model `file` seen head-on from +z, its centre pixel's world normal.
+fn centre_normal(dir: &Path, file: &str) -> DVec3 {
+    let text = format!(
+        "[camera]\neye = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\n\n[[light]]\ntype = \"ambient\"\n\n\
+         [[object]]\nshape = \"mesh\"\nfile = \"{file}\"\n"
+    );
+    let frame = render_all_aovs(&text, dir, 33, 33, 1);
+    d3(Vec3::from(frame.normal.as_ref().unwrap()[16 * 33 + 16]))
+}
+
+/// An 8-bit normal-map texel of the unit vector `n` (each component stored as (c + 1) / 2).
+fn texel_of(n: DVec3) -> [u8; 3] {
+    n.normalize().to_array().map(|c| ((c + 1.0) * 0.5 * 255.0).round() as u8)
+}
+
+/// The vector an 8-bit texel stores.
+fn decoded(t: [u8; 3]) -> DVec3 {
+    DVec3::from_array(t.map(|c| c as f64 / 255.0 * 2.0 - 1.0)).normalize()
+}
+
+/// glTF: N' = normalize(x T + y B + z N) with B = w (N x T). For the quad, T = +x (or -x mirrored) and
+/// B = +y (up the image) whether the tangents come with the file or from MikkTSpace.
+#[test]
+fn gltf_normal_maps_shade_with_the_normal_the_specification_implies() {
+    let dir = scratch_dir("gltf-normal-map");
+    let tilt = DVec3::new(0.35, -0.45, 0.82);
+    let texel = texel_of(tilt);
+    let png = png_of(&dir, texel);
+    let material = "{\"normalTexture\": {\"index\": 0}}".to_string();
+    let cases = [
+        ("given tangents", Some([1.0, 0.0, 0.0, 1.0]), false),
+        ("MikkTSpace", None, false),
+        ("mirrored, given tangents", Some([-1.0, 0.0, 0.0, -1.0]), true),
+        ("mirrored, MikkTSpace", None, true),
+        // Tangents the file gives are used as given, even where MikkTSpace would choose others.
+        ("tangents along +y", Some([0.0, 1.0, 0.0, 1.0]), false),
+    ];
+    for (k, (name, tangents, mirrored)) in cases.into_iter().enumerate() {
+        let file = File { primitive: quad(tangents, mirrored), matrix: None, material: material.clone(), png: Some(png.clone()) };
+        let (bytes, _) = file.write(Layout::Binary, "");
+        std::fs::write(dir.join(format!("q{k}.glb")), bytes).unwrap();
+        let got = centre_normal(&dir, &format!("q{k}.glb"));
+        let t = decoded(texel);
+        // Mirrored in u: the tangent runs along -x, the bitangent still along +y. With T = +y the
+        // bitangent N x T is -x.
+        let want = match (mirrored, tangents) {
+            (true, _) => DVec3::new(-t.x, t.y, t.z),
+            (false, Some([_, y, _, _])) if y == 1.0 => DVec3::new(-t.y, t.x, t.z),
+            _ => t,
+        };
+        let err = angle_deg(got, want);
+        assert!(err < 0.5, "{name}: normal {got} against {want}: {err} degrees");
+    }
+    // The normal map read as sRGB colour would be off by several degrees: the test can tell.
+    assert!(angle_deg(decoded(texel), DVec3::new(0.0, 0.0, 1.0)) > 20.0);
+}
+
+/// A node's matrix carries the mesh, its normals and its tangents.
+#[test]
+fn gltf_node_transforms_carry_the_normal_map_frame() {
+    let dir = scratch_dir("gltf-node");
+    let tilt = DVec3::new(0.3, 0.2, 0.93);
+    let texel = texel_of(tilt);
+    // A quarter turn about z (column-major): +x goes to +y, +y to -x.
+    let matrix = [0.0, 1.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0];
+    for (k, tangents) in [Some([1.0, 0.0, 0.0, 1.0]), None].into_iter().enumerate() {
+        let file = File {
+            primitive: quad(tangents, false),
+            matrix: Some(matrix),
+            material: "{\"normalTexture\": {\"index\": 0}}".into(),
+            png: Some(png_of(&dir, texel)),
+        };
+        std::fs::write(dir.join(format!("n{k}.glb")), file.write(Layout::Binary, "").0).unwrap();
+        let got = centre_normal(&dir, &format!("n{k}.glb"));
+        let t = decoded(texel);
+        let want = DVec3::new(-t.y, t.x, t.z);
+        assert!(angle_deg(got, want) < 0.5, "tangents {tangents:?}: {got} against {want}");
+    }
+}
+
+/// The same model through every glTF layout, and as OBJ with its .mtl: the same colour at the centre.
+#[test]
+fn every_loader_path_gives_the_same_picture() {
+    let dir = scratch_dir("loaders");
+    let png = png_of(&dir, [200, 100, 50]);
+    std::fs::write(dir.join("colour.png"), &png).unwrap();
+    let material = "{\"pbrMetallicRoughness\": {\"baseColorFactor\": [0.5, 1.0, 1.0, 1.0], \"baseColorTexture\": {\"index\": 0}}}";
+    let file = File { primitive: quad(None, false), matrix: None, material: material.into(), png: Some(png) };
+    let (embedded, _) = file.write(Layout::Embedded, "");
+    std::fs::write(dir.join("e.gltf"), embedded).unwrap();
+    let (separate, bin) = file.write(Layout::Separate, "s.bin");
+    std::fs::write(dir.join("s.gltf"), separate).unwrap();
+    std::fs::write(dir.join("s.bin"), bin).unwrap();
+    std::fs::write(dir.join("b.glb"), file.write(Layout::Binary, "").0).unwrap();
+    std::fs::write(
+        dir.join("q.obj"),
+        "mtllib q.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
+         usemtl m\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n",
+    )
+    .unwrap();
+    std::fs::write(dir.join("q.mtl"), "newmtl m\nKd 0.5 1 1\nmap_Kd colour.png\n").unwrap();
+    // Lit by an ambient light of 1: the colour is the albedo, base colour factor times the texel.
+    let srgb = |c: f64| if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) };
+    let want = DVec3::new(0.5 * srgb(200.0 / 255.0), srgb(100.0 / 255.0), srgb(50.0 / 255.0));
+    for name in ["e.gltf", "s.gltf", "b.glb", "q.obj"] {
+        let text = format!(
+            "[camera]\neye = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\n\n[[light]]\ntype = \"ambient\"\n\n\
+             [[object]]\nshape = \"mesh\"\nfile = \"{name}\"\n"
+        );
+        let frame = render_all_aovs(&text, &dir, 17, 17, 1);
+        let got = d3(Vec3::from(frame.color[8 * 17 + 8]));
+        assert!((got - want).abs().max_element() < 2e-3, "{name}: {got} against {want}");
+        assert_eq!(frame.id.as_ref().unwrap()[8 * 17 + 8], 0.0, "{name}");
+    }
+}
+
+/// A broken model file, or a scene asking for one wrongly: one line naming the file and what is wrong.
+#[test]
+fn broken_models_give_one_clear_line() {
+    let dir = scratch_dir("broken");
+    let obj = |name: &str, text: &str| std::fs::write(dir.join(name), text).unwrap();
+    obj("out_of_range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
+    obj("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
+    obj("empty.obj", "v 0 0 0\nv 1 0 0\n");
+    obj("garbage.obj", "v 0 0 zero\nf 1 2 3\n");
+    obj("missing_texture.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nusemtl a\nf 1/1 2/1 3/1\n");
+    obj("m.mtl", "newmtl a\nmap_Kd nowhere.png\n");
+    let png = png_of(&dir, [128, 128, 255]);
+    let file = File { primitive: quad(None, false), matrix: None, material: "{}".into(), png: Some(png) };
+    let glb = file.write(Layout::Binary, "").0;
+    std::fs::write(dir.join("truncated.glb"), &glb[..glb.len() / 2]).unwrap();
+    std::fs::write(dir.join("not_json.gltf"), "{ this is not json").unwrap();
+    let mut bad_index = quad(None, false);
+    bad_index.indices[4] = 77;
+    let file = File { primitive: bad_index, matrix: None, material: "{}".into(), png: None };
+    std::fs::write(dir.join("bad_index.glb"), file.write(Layout::Binary, "").0).unwrap();
+    let cases = [
+        ("out_of_range.obj", "out_of_range.obj"),
+        ("nan.obj", "not a finite number"),
+        ("empty.obj", "no triangles"),
+        ("garbage.obj", "malformed OBJ"),
+        ("missing_texture.obj", "nowhere.png"),
+        ("truncated.glb", "malformed glTF"),
+        ("not_json.gltf", "malformed glTF"),
+        ("bad_index.glb", "out of range"),
+        ("absent.glb", "no such file"),
+        ("model.stl", "expected a model file"),
+    ];
+    for (file, expect) in cases {
+        let text = format!(
+            "[camera]\neye = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\n\n[[object]]\nshape = \"mesh\"\nfile = \"{file}\"\n"
+        );
+        let err = match Scene::parse(&text, &dir) {
+            Ok(_) => panic!("{file}: loaded"),
+            Err(e) => e.to_string(),
+        };
+        assert!(err.contains(expect) && err.contains(file.trim_end_matches(".obj")), "{file}: {err}");
+        assert!(!err.contains('\n'), "{file}: more than one line: {err}");
+    }
+    // Fields of meshes on other shapes, and of other shapes on meshes.
+    for (object, expect) in [
+        ("shape = \"sphere\"\nfile = \"q.obj\"", "objects[0].file: only for shape = \"mesh\""),
+        ("shape = \"mesh\"\nfile = \"q.obj\"\nradius = 2.0", "objects[0].radius: not a field of shape \"mesh\""),
+        ("shape = \"mesh\"", "objects[0].file: missing"),
+    ] {
+        let text = format!("[camera]\neye = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\n\n[[object]]\n{object}\n");
+        let err = Scene::parse(&text, &dir).err().map(|e| e.to_string()).unwrap_or_default();
+        assert!(err.contains(expect), "{object}: {err}");
+    }
+}
