@@ -74,6 +74,15 @@ fn outputs<'a>(out: &Path, frame: &'a Frame) -> Result<Vec<Output<'a>>> {
     if let Some(id) = &frame.id {
         list.push((aov_path(out, "id"), Box::new(move |p| io::write_exr(p, w, h, &[("id", id)]))));
     }
+    if let Some(ids) = &frame.primitive {
+        list.push((
+            aov_path(out, "primitive"),
+            Box::new(move |p| {
+                let (object, triangle): (Vec<u32>, Vec<u32>) = ids.iter().map(|&[o, t]| (o, t)).unzip();
+                io::write_exr_u32(p, w, h, &[("object", &object), ("triangle", &triangle)])
+            }),
+        ));
+    }
     Ok(list)
 }
 

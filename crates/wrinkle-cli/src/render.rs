@@ -23,7 +23,8 @@ pub struct RenderArgs {
     pub output: PathBuf,
     #[command(flatten)]
     pub frame: FrameArgs,
-    /// AOVs written beside the output as OUT.<name>.exr: any of normal, uv, depth, id (comma-separated).
+    /// AOVs written beside the output as OUT.<name>.exr: any of normal, uv, depth, id, primitive
+    /// (comma-separated; primitive is the item buffer: object and triangle as 32-bit integers).
     #[arg(long, value_delimiter = ',')]
     pub aov: Vec<String>,
     /// Number of frames (with --turntable): OUT_0000.png, OUT_0001.png, ...
@@ -109,8 +110,11 @@ fn parse_aovs(names: &[String]) -> Result<Aovs> {
             "uv" => a.uv = true,
             "depth" => a.depth = true,
             "id" => a.id = true,
+            "primitive" => a.primitive = true,
             other => {
-                return Err(Error::Invalid(format!("--aov: unknown AOV \"{other}\" (expected normal, uv, depth, id)")))
+                return Err(Error::Invalid(format!(
+                    "--aov: unknown AOV \"{other}\" (expected normal, uv, depth, id, primitive)"
+                )))
             }
         }
     }

@@ -168,6 +168,29 @@ fn aovs_are_written_beside_the_output() {
     }
 }
 
+/// The item buffer as 32-bit integers: the object agrees with the id AOV, the background is 2^32 - 1.
+#[test]
+fn primitive_aov_is_the_item_buffer() {
+    let s = Scratch::new("aov-primitive");
+    assert_ok(&render_default(&s, &["--width", W, "--height", H, "--aov", "id,primitive"]));
+    let (_, _, primitive) = read_exr_channels(Path::new(&s.out("x.primitive.exr"))).unwrap();
+    let (_, _, id) = read_exr_channels(Path::new(&s.out("x.id.exr"))).unwrap();
+    let names: Vec<&str> = primitive.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(names, ["object", "triangle"]);
+    let (object, triangle) = (&primitive[0].1, &primitive[1].1);
+    let mut triangles = BTreeSet::new();
+    for p in 0..64 * 48 {
+        if id[0].1[p].is_nan() {
+            assert_eq!((object[p], triangle[p]), (u32::MAX as f32, u32::MAX as f32), "pixel {p}");
+        } else {
+            assert_eq!(object[p], id[0].1[p], "pixel {p}");
+            triangles.insert(triangle[p] as u32);
+        }
+    }
+    // The tessellated cover scene shows many triangles, each numbered within its object.
+    assert!(triangles.len() > 50, "{} triangles seen", triangles.len());
+}
+
 #[test]
 fn exr_output_is_linear_rgb() {
     let s = Scratch::new("exr");

@@ -60,7 +60,12 @@ fn gltf_normal_maps_shade_with_the_normal_the_specification_implies() {
         ("tangents along +y", Some([0.0, 1.0, 0.0, 1.0]), false),
     ];
     for (k, (name, tangents, mirrored)) in cases.into_iter().enumerate() {
-        let file = File { primitive: quad(tangents, mirrored), matrix: None, material: material.clone(), png: Some(png.clone()) };
+        let file = File {
+            primitive: quad(tangents, mirrored),
+            matrix: None,
+            material: material.clone(),
+            png: Some(png.clone()),
+        };
         let (bytes, _) = file.write(Layout::Binary, "");
         std::fs::write(dir.join(format!("q{k}.glb")), bytes).unwrap();
         let got = centre_normal(&dir, &format!("q{k}.glb"));
@@ -108,7 +113,8 @@ fn every_loader_path_gives_the_same_picture() {
     let dir = scratch_dir("loaders");
     let png = png_of(&dir, [200, 100, 50]);
     std::fs::write(dir.join("colour.png"), &png).unwrap();
-    let material = "{\"pbrMetallicRoughness\": {\"baseColorFactor\": [0.5, 1.0, 1.0, 1.0], \"baseColorTexture\": {\"index\": 0}}}";
+    let material =
+        "{\"pbrMetallicRoughness\": {\"baseColorFactor\": [0.5, 1.0, 1.0, 1.0], \"baseColorTexture\": {\"index\": 0}}}";
     let file = File { primitive: quad(None, false), matrix: None, material: material.into(), png: Some(png) };
     let (embedded, _) = file.write(Layout::Embedded, "");
     std::fs::write(dir.join("e.gltf"), embedded).unwrap();
@@ -191,4 +197,53 @@ fn broken_models_give_one_clear_line() {
         let err = Scene::parse(&text, &dir).err().map(|e| e.to_string()).unwrap_or_default();
         assert!(err.contains(expect), "{object}: {err}");
     }
+}
+
+/// The item buffer: each pixel's object and triangle, against the triangle its ray meets (the quad's
+/// diagonal from (-1, -1) to (1, 1) splits it into triangle 0 below and triangle 1 above), and nothing on
+/// the background.
+#[test]
+fn primitive_aov_names_the_triangle_each_pixel_sees() {
+    let dir = scratch_dir("item-buffer");
+    std::fs::write(dir.join("q.obj"), "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf 1 3 4\n").unwrap();
+    let text = "[camera]\neye = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\nfov_y = 40.0\n\n\
+                [[light]]\ntype = \"ambient\"\n\n\
+                [[object]]\nshape = \"sphere\"\nradius = 0.3\ntransform = { translate = [1.2, 1.0, 0.5] }\n\n\
+                [[object]]\nshape = \"mesh\"\nfile = \"q.obj\"\n";
+    let (w, h) = (64, 48);
+    let frame = render_all_aovs(text, &dir, w, h, 1);
+    let ids = frame.primitive.as_ref().unwrap();
+    let camera = common::RefCamera::perspective([0.0, 0.0, 4.0], [0.0; 3], [0.0, 1.0, 0.0], 40.0, w, h);
+    let (mut checked, mut background) = (0, 0);
+    for j in 0..h {
+        for i in 0..w {
+            let (o, d) = camera.pixel_ray(i, j);
+            // Within a sphere a little smaller (its silhouette is tessellated), and beside one a little larger.
+            let centre = DVec3::new(1.2, 1.0, 0.5);
+            let (sphere, near_sphere) =
+                (common::ray_sphere(o, d, centre, 0.28), common::ray_sphere(o, d, centre, 0.32));
+            let plane = common::ray_plane(o, d, DVec3::ZERO, DVec3::Z);
+            let got = ids[j * w + i];
+            match (sphere, plane) {
+                (Some(_), _) => assert_eq!(got[0], 0, "pixel ({i}, {j}): the sphere"),
+                _ if near_sphere.is_some() => continue,
+                (None, Some(t)) => {
+                    let p = o + t * d;
+                    if p.x.abs() > 1.02 || p.y.abs() > 1.02 {
+                        assert_eq!(got, wrinkle::render::NO_PRIMITIVE, "pixel ({i}, {j}) sees nothing");
+                        background += 1;
+                        continue;
+                    }
+                    if p.x.abs() > 0.98 || p.y.abs() > 0.98 || (p.x - p.y).abs() < 0.03 {
+                        continue; // edges, where the pixel's sample may fall either side
+                    }
+                    let triangle = if p.x > p.y { 0 } else { 1 };
+                    assert_eq!(got, [1, triangle], "pixel ({i}, {j}) at {p}");
+                    checked += 1;
+                }
+                (None, None) => {}
+            }
+        }
+    }
+    assert!(checked > 500 && background > 100, "{checked} quad pixels, {background} background");
 }

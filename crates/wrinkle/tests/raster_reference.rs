@@ -106,7 +106,8 @@ fn oblique_plane_uv_is_perspective_correct() {
 fn coverage(camera: &Camera, mesh: &Mesh, object_to_world: Affine3A, cull: bool, spp: usize) -> Vec<u16> {
     let (w, h) = (camera.width as usize, camera.height as usize);
     let mut setup = TriangleSetup::new(camera);
-    let vertices = setup.project_vertices(&mesh.positions, &mesh.uvs, &(camera.world_to_camera * object_to_world));
+    let vertices =
+        setup.project_vertices(&mesh.positions, Some(&mesh.uvs), &(camera.world_to_camera * object_to_world));
     let cull = if cull { Cull::FacingAway { mirrored: false } } else { Cull::Nothing };
     setup.add_triangles(&vertices, &mesh.triangles, 0, 0, cull);
     let pattern = SamplePattern::new(spp).expect("spp 1, 4 or 16");

@@ -189,10 +189,21 @@ pub fn write_png_grey8(path: &Path, img: &GreyImage) -> Result<()> {
 /// row 0 at the top. Compression is ZIP (16 scan lines per block), which is lossless:
 /// every value, NaN included, reads back bit for bit.
 pub fn write_exr(path: &Path, width: usize, height: usize, channels: &[(&str, &[f32])]) -> Result<()> {
+    let samples = channels.iter().map(|&(name, s)| (name, FlatSamples::F32(s.to_vec()))).collect();
+    write_exr_samples(path, width, height, samples)
+}
+
+/// `write_exr` with 32-bit unsigned integer channels (indices that f32 would round beyond 2^24).
+pub fn write_exr_u32(path: &Path, width: usize, height: usize, channels: &[(&str, &[u32])]) -> Result<()> {
+    let samples = channels.iter().map(|&(name, s)| (name, FlatSamples::U32(s.to_vec()))).collect();
+    write_exr_samples(path, width, height, samples)
+}
+
+fn write_exr_samples(path: &Path, width: usize, height: usize, channels: Vec<(&str, FlatSamples)>) -> Result<()> {
     check_size(width, height).map_err(|m| invalid(path, m))?;
     let list = channels
-        .iter()
-        .map(|&(name, samples)| exr_channel(path, name, samples, width * height))
+        .into_iter()
+        .map(|(name, samples)| exr_channel(path, name, samples, width * height))
         .collect::<Result<_>>()?;
     let channels = AnyChannels::sort(list);
     check_channel_names(path, &channels)?;
@@ -370,7 +381,7 @@ fn format_name(format: ImageFormat) -> &'static str {
 }
 
 /// One EXR channel from a slice that must hold exactly `len` samples.
-fn exr_channel(path: &Path, name: &str, samples: &[f32], len: usize) -> Result<AnyChannel<FlatSamples>> {
+fn exr_channel(path: &Path, name: &str, samples: FlatSamples, len: usize) -> Result<AnyChannel<FlatSamples>> {
     if samples.len() != len {
         return Err(invalid(path, format!("EXR channel {name:?} has {} samples, expected {len}", samples.len())));
     }
@@ -378,7 +389,7 @@ fn exr_channel(path: &Path, name: &str, samples: &[f32], len: usize) -> Result<A
         .filter(|n| !n.is_empty())
         .and_then(Text::new_or_none)
         .ok_or_else(|| invalid(path, format!("{name:?} is not a valid EXR channel name")))?;
-    Ok(AnyChannel::new(text, FlatSamples::F32(samples.to_vec())))
+    Ok(AnyChannel::new(text, samples))
 }
 
 /// Refuses an empty channel list and repeated names (`channels` is sorted by name).

@@ -1,4 +1,5 @@
-//! A rendered frame: linear RGB and the optional AOVs (normal, uv, depth, id), with stage timings.
+//! A rendered frame: linear RGB and the optional AOVs (normal, uv, depth, id, primitive), with stage
+//! timings.
 
 use crate::shade::ShadedSample;
 use glam::{Vec2, Vec3};
@@ -11,13 +12,17 @@ pub struct Aovs {
     pub uv: bool,
     pub depth: bool,
     pub id: bool,
+    pub primitive: bool,
 }
 
 impl Aovs {
     pub fn any(&self) -> bool {
-        self.normal || self.uv || self.depth || self.id
+        self.normal || self.uv || self.depth || self.id || self.primitive
     }
 }
+
+/// What the primitive AOV holds where no object is seen.
+pub const NO_PRIMITIVE: [u32; 2] = [u32::MAX; 2];
 
 /// Wall time of each stage of one frame, milliseconds (raster, shade and resolve run together, in parallel).
 #[derive(Clone, Copy, Debug, Default)]
@@ -42,6 +47,9 @@ pub struct Frame {
     pub depth: Option<Vec<f32>>,
     /// The index in the scene file of the object that covers most of the pixel's samples.
     pub id: Option<Vec<f32>>,
+    /// The item buffer: (object, triangle within the object) of the object that covers most of the pixel's
+    /// samples, the triangle of its first covered sample; `NO_PRIMITIVE` where none is.
+    pub primitive: Option<Vec<[u32; 2]>>,
     pub stats: Stats,
 }
 
@@ -60,6 +68,7 @@ impl Frame {
             uv: aovs.uv.then(|| vec![[f32::NAN; 2]; n]),
             depth: aovs.depth.then(|| vec![f32::NAN; n]),
             id: aovs.id.then(|| vec![f32::NAN; n]),
+            primitive: aovs.primitive.then(|| vec![NO_PRIMITIVE; n]),
             stats: Stats::default(),
         }
     }
@@ -83,6 +92,7 @@ impl Frame {
         gather(&mut self.uv, bands.iter_mut().map(|b| std::mem::take(&mut b.uv)));
         gather(&mut self.depth, bands.iter_mut().map(|b| std::mem::take(&mut b.depth)));
         gather(&mut self.id, bands.iter_mut().map(|b| std::mem::take(&mut b.id)));
+        gather(&mut self.primitive, bands.iter_mut().map(|b| std::mem::take(&mut b.primitive)));
     }
 }
 
@@ -93,8 +103,8 @@ pub(super) struct AovSample {
     normal: Vec3,
     uv: Vec2,
     depth: f32,
-    /// (object, samples) of the objects seen, so the pixel's id is one of them, not a blend of two.
-    objects: Vec<(u32, u32)>,
+    /// (object, samples, first triangle) of the objects seen, so the pixel's id is one of them, not a blend.
+    objects: Vec<(u32, u32, u32)>,
 }
 
 impl AovSample {
@@ -106,20 +116,20 @@ impl AovSample {
         self.objects.clear();
     }
 
-    pub fn add(&mut self, s: &ShadedSample, uv: Vec2, object: u32) {
+    pub fn add(&mut self, s: &ShadedSample, uv: Vec2, object: u32, triangle: u32) {
         self.count += 1;
         self.normal += s.normal;
         self.uv += uv;
         self.depth += s.depth;
-        match self.objects.iter_mut().find(|(o, _)| *o == object) {
-            Some((_, n)) => *n += 1,
-            None => self.objects.push((object, 1)),
+        match self.objects.iter_mut().find(|(o, _, _)| *o == object) {
+            Some((_, n, _)) => *n += 1,
+            None => self.objects.push((object, 1, triangle)),
         }
     }
 
-    /// The object covering most of the pixel's samples (the lower index on a tie).
-    fn object(&self) -> u32 {
-        self.objects.iter().max_by_key(|&&(o, n)| (n, std::cmp::Reverse(o))).map_or(0, |&(o, _)| o)
+    /// The object covering most of the pixel's samples (the lower index on a tie) and its first triangle.
+    fn primitive(&self) -> [u32; 2] {
+        self.objects.iter().max_by_key(|&&(o, n, _)| (n, std::cmp::Reverse(o))).map_or([0, 0], |&(o, _, t)| [o, t])
     }
 }
 
@@ -130,6 +140,7 @@ pub(super) struct AovBand {
     uv: Vec<[f32; 2]>,
     depth: Vec<f32>,
     id: Vec<f32>,
+    primitive: Vec<[u32; 2]>,
 }
 
 impl AovBand {
@@ -141,6 +152,7 @@ impl AovBand {
             uv: vec![[f32::NAN; 2]; sized(kinds.uv, n)],
             depth: vec![f32::NAN; sized(kinds.depth, n)],
             id: vec![f32::NAN; sized(kinds.id, n)],
+            primitive: vec![NO_PRIMITIVE; sized(kinds.primitive, n)],
         }
     }
 
@@ -161,7 +173,10 @@ impl AovBand {
             self.depth[i] = s.depth * k;
         }
         if self.kinds.id {
-            self.id[i] = s.object() as f32;
+            self.id[i] = s.primitive()[0] as f32;
+        }
+        if self.kinds.primitive {
+            self.primitive[i] = s.primitive();
         }
     }
 }

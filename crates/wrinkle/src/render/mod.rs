@@ -3,7 +3,7 @@
 
 mod frame;
 
-pub use frame::{Aovs, Frame, Stats};
+pub use frame::{Aovs, Frame, Stats, NO_PRIMITIVE};
 
 use crate::geometry::mesh_lanes;
 use crate::geometry::tessellate::{grid, segments_for, Mesh};
@@ -397,7 +397,7 @@ impl TileJob<'_> {
                     let sample = &shaded[k];
                     sum += self.volume_pass(screen, sample.shaded.depth, sample.shaded.color);
                     if self.aovs.any() {
-                        acc.add(&sample.shaded, sample.uv, sample.object);
+                        acc.add(&sample.shaded, sample.uv, sample.object, sample.triangle);
                     }
                 }
                 let i = (y * w) + vis.x0 + x;
@@ -448,7 +448,8 @@ impl TileJob<'_> {
         let result = self.shade.shade8(inst, &samples);
         for i in 0..packet.len {
             let uv = Vec2::new(uv.0.as_array_ref()[i], uv.1.as_array_ref()[i]);
-            shaded[packet.samples[i]] = Shaded { shaded: result.lane(i), uv, object: inst.object };
+            let triangle = samples.triangles[i];
+            shaded[packet.samples[i]] = Shaded { shaded: result.lane(i), uv, object: inst.object, triangle };
         }
         packet.len = 0;
     }
@@ -485,4 +486,6 @@ struct Shaded {
     shaded: ShadedSample,
     uv: Vec2,
     object: u32,
+    /// The triangle within its object.
+    triangle: u32,
 }

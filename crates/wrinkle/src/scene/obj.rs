@@ -148,6 +148,7 @@ fn material(m: &tobj::Material, dir: &Path) -> Result<ObjMaterial> {
 }
 
 /// A texture statement of an .mtl: `[options] file`.
+#[derive(Debug)]
 struct MapSpec {
     file: PathBuf,
     /// `-bm`: the bump multiplier.
