@@ -34,13 +34,21 @@ const PNG_FILTER: png::Filter = png::Filter::Up;
 /// EXR encoding: ZIP over blocks of 16 scan lines, lossless and compressed in parallel.
 const EXR_ENCODING: Encoding = Encoding::SMALL_LOSSLESS;
 
-/// Loads a grey image (a height map) from a PNG (8 or 16 bit), JPEG, BMP, TGA or TIFF file,
-/// recognised by its content, else by its extension.
+/// Loads a grey image (a height map) from a PNG (8 or 16 bit), JPEG, BMP, TGA or TIFF (integer or 32-bit
+/// float) file, recognised by its content, else by its extension, or from OpenEXR by extension.
 ///
 /// Values are the stored ones scaled to [0, 1] (8-bit / 255, 16-bit / 65535; float samples
 /// as stored), with no sRGB decoding. Colour pixels become
-/// 0.2126 R + 0.7152 G + 0.0722 B (Rec. 709 luma) of the stored values; alpha is ignored.
+/// 0.2126 R + 0.7152 G + 0.0722 B (Rec. 709 luma) of the stored values; alpha is ignored. An EXR file's
+/// grey is its one channel, else Y, else Z (a depth AOV), else the luma of R, G, B; its non-finite samples
+/// (a depth AOV's background is NaN) read as its largest finite one, the farthest depth.
 pub fn load_grey(path: &Path) -> Result<GreyImage> {
+    if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr")) {
+        return load_exr_grey(path);
+    }
+    if let Some(grey) = load_tiff_grey_f32(path) {
+        return grey;
+    }
     let img = decode(path)?;
     let channels = usize::from(img.color().channel_count());
     let pixels = if let Some(s) = img.as_flat_samples_u8() {
@@ -121,6 +129,48 @@ pub fn load_rgba_linear(path: &Path, srgb: bool) -> Result<Image<[f32; 4]>> {
             Image { width: image.width, height: image.height, pixels }
         }
     })
+}
+
+/// A grey 32-bit float TIFF (what GIMP and Krita write for a float height map), which the image crate
+/// refuses; `None` for any other file, left to the image crate.
+fn load_tiff_grey_f32(path: &Path) -> Option<Result<GreyImage>> {
+    let file = std::fs::File::open(path).ok()?;
+    let mut decoder = tiff::decoder::Decoder::new(std::io::BufReader::new(file)).ok()?;
+    if decoder.colortype().ok()? != tiff::ColorType::Gray(32) {
+        return None;
+    }
+    let mut read = || -> std::result::Result<GreyImage, String> {
+        let (w, h) = decoder.dimensions().map_err(|e| e.to_string())?;
+        check_size(w as usize, h as usize)?;
+        match decoder.read_image().map_err(|e| format!("malformed TIFF: {e}"))? {
+            tiff::decoder::DecodingResult::F32(pixels) if pixels.len() == w as usize * h as usize => {
+                Ok(Image { width: w as usize, height: h as usize, pixels })
+            }
+            _ => Err("a grey TIFF of 32-bit samples that are not floats, or of the wrong count".into()),
+        }
+    };
+    Some(read().map_err(|m| Error::read(path, m)))
+}
+
+/// The grey of an OpenEXR file, as `load_grey` describes it.
+fn load_exr_grey(path: &Path) -> Result<GreyImage> {
+    let (width, height, channels) = read_exr_channels(path)?;
+    check_size(width, height).map_err(|m| Error::read(path, m))?;
+    let find = |name: &str| channels.iter().find(|(n, _)| n == name).map(|(_, v)| v.clone());
+    let mut pixels = match (channels.len(), find("Y").or_else(|| find("Z")), find("R"), find("G"), find("B")) {
+        (1, _, _, _, _) => channels[0].1.clone(),
+        (_, Some(grey), _, _, _) => grey,
+        (_, None, Some(r), Some(g), Some(b)) => {
+            (0..width * height).map(|k| LUMA[0] * r[k] + LUMA[1] * g[k] + LUMA[2] * b[k]).collect()
+        }
+        _ => return Err(Error::read(path, "expected one channel, or Y, Z, or R, G, B")),
+    };
+    let far = pixels.iter().copied().filter(|v| v.is_finite()).fold(f32::NEG_INFINITY, f32::max);
+    if far == f32::NEG_INFINITY {
+        return Err(Error::read(path, "has no finite sample"));
+    }
+    pixels.iter_mut().filter(|v| !v.is_finite()).for_each(|v| *v = far);
+    Ok(Image { width, height, pixels })
 }
 
 /// R, G, B (and A when present) of an OpenEXR file; a single channel (Y or any name) is grey.
