@@ -41,11 +41,12 @@ pub fn filter_choices() -> Vec<(&'static str, Option<Filter>)> {
 }
 
 impl BumpMap {
-    /// scale times the mapping's Jacobian columns: F's derivatives along u and v are Fs k_u.x + Ft k_u.y and
-    /// Fs k_v.x + Ft k_v.y. The scale is folded in first, so a plain repeat r gives (scale r) Fs exactly.
+    /// scale times the mapping's Jacobian columns `jacobian`: F's derivatives along u and v are
+    /// Fs k_u.x + Ft k_u.y and Fs k_v.x + Ft k_v.y. The scale is folded in first, so a plain repeat r gives
+    /// (scale r) Fs exactly.
     #[inline]
-    fn chain(&self) -> [Vec2; 2] {
-        self.mapping.jacobian().map(|c| c * self.scale)
+    fn chain(&self, jacobian: [Vec2; 2]) -> [Vec2; 2] {
+        jacobian.map(|c| c * self.scale)
     }
 
     /// F, Fu, Fv at one sample, the table filtered by `filter` (the bump's own, or an override).
@@ -55,25 +56,23 @@ impl BumpMap {
             BumpSource::Table(t) => t,
             BumpSource::Procedural(p) => return self.procedural(p, ctx),
         };
-        let mapped = self.mapping.apply(ctx);
+        let (mapped, jacobian) = self.mapping.apply_with_jacobian(ctx);
         let g = table.lookup(mapped.uv.x, mapped.uv.y, &mapped.footprint, filter);
-        let [ku, kv] = self.chain();
+        let [ku, kv] = self.chain(jacobian);
         Gradient { f: self.scale * g.f, fu: g.fu * ku.x + g.fv * ku.y, fv: g.fu * kv.x + g.fv * kv.y }
     }
 
-    /// F, Fu, Fv on eight lanes.
+    /// F, Fu, Fv on eight lanes: a table through the surface's (u,v) on the lanes, anything else lane by
+    /// lane.
     #[inline]
     pub fn eval8(&self, ctx: &LookupContext8, filter: &FilterOptions) -> [F8; 3] {
-        let table = match &self.source {
-            BumpSource::Table(t) => t,
-            BumpSource::Procedural(p) => {
-                let g: [Gradient; 8] = std::array::from_fn(|i| self.procedural(p, &ctx.lane(i)));
-                return [F8::new(g.map(|g| g.f)), F8::new(g.map(|g| g.fu)), F8::new(g.map(|g| g.fv))];
-            }
+        let (BumpSource::Table(table), Some(jacobian)) = (&self.source, self.mapping.constant_jacobian()) else {
+            let g: [Gradient; 8] = std::array::from_fn(|i| self.eval(&ctx.lane(i), filter));
+            return [F8::new(g.map(|g| g.f)), F8::new(g.map(|g| g.fu)), F8::new(g.map(|g| g.fv))];
         };
-        let mapped = self.mapping.apply8(ctx);
+        let (mapped, _) = self.mapping.apply8(ctx);
         let [f, fs, ft] = table.lookup8(mapped.u, mapped.v, &mapped.footprint, filter);
-        let [ku, kv] = self.chain();
+        let [ku, kv] = self.chain(jacobian);
         let k = F8::splat;
         [k(self.scale) * f, fs * k(ku.x) + ft * k(ku.y), fs * k(kv.x) + ft * k(kv.y)]
     }
@@ -88,8 +87,9 @@ impl BumpMap {
                 Gradient { f: self.scale * t.value, fu: self.scale * g.dot(ctx.dpdu), fv: self.scale * g.dot(ctx.dpdv) }
             }
             Space::Uv => {
-                let t = p.eval_d(&self.mapping.apply(ctx));
-                let [ku, kv] = self.chain();
+                let (mapped, jacobian) = self.mapping.apply_with_jacobian(ctx);
+                let t = p.eval_d(&mapped);
+                let [ku, kv] = self.chain(jacobian);
                 let g = t.grad;
                 Gradient { f: self.scale * t.value, fu: g[0] * ku.x + g[1] * ku.y, fv: g[0] * kv.x + g[1] * kv.y }
             }

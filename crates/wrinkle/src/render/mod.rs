@@ -444,8 +444,8 @@ impl TileJob<'_> {
                 }
             }
         };
-        let uv = samples.uv;
         let result = self.shade.shade8(inst, &samples);
+        let uv = result.uv;
         for i in 0..packet.len {
             let uv = Vec2::new(uv.0.as_array_ref()[i], uv.1.as_array_ref()[i]);
             let triangle = samples.triangles[i];

@@ -1,6 +1,7 @@
 //! Reading a scene from TOML, field by field, with paths resolved against the scene file's folder.
 
 use super::fields::{number_value, points, vec3_value, Fields};
+use super::mapping::parse_mapping;
 use super::procedural;
 use super::texture::{parse_normal_map, parse_texture, Role};
 use super::{CameraDesc, Object, Scene};
@@ -10,7 +11,7 @@ use crate::bump::{BumpFormula, BumpMap, BumpSource, BumpTable};
 use crate::geometry::{MeshPart, Shape, Surface, Transform};
 use crate::image::io;
 use crate::light::Light;
-use crate::mapping::{Mapping, UvTransform};
+use crate::mapping::UvTransform;
 use crate::raster::Projection;
 use crate::shade::{Material, Phong};
 use crate::texture::reconstruct::Kernel;
@@ -285,7 +286,7 @@ fn parse_mesh(f: &Fields, base: &Path, materials: &mut Vec<Material>) -> Result<
     Ok(Shape::Mesh(parts))
 }
 
-fn parse_transform(path: &str, v: &Value) -> Result<Transform> {
+pub(super) fn parse_transform(path: &str, v: &Value) -> Result<Transform> {
     let f = Fields::new(path, v, &["translate", "rotate", "scale"])?;
     let scale = match f.get("scale") {
         // A single number scales uniformly.
@@ -382,6 +383,7 @@ fn parse_bump(path: &str, v: &Value, base: &Path) -> Result<BumpMap> {
             "repeat",
             "offset",
             "rotate",
+            "mapping",
             "interp",
             "invariant",
             "formula",
@@ -417,7 +419,7 @@ fn parse_bump(path: &str, v: &Value, base: &Path) -> Result<BumpMap> {
             Source::Procedural(p) => BumpSource::Procedural(Arc::new(procedural::parse_bump(&f.at("procedural"), p)?)),
         },
         scale: f.number_or("scale", 0.05)?,
-        mapping: Mapping::uv(uv_transform(&f)?),
+        mapping: parse_mapping(&f.at("mapping"), f.get("mapping"), uv_transform(&f)?)?,
         formula,
         filter: FilterOptions { filter: bump_filter(&f)?, ..FilterOptions::default() },
     })

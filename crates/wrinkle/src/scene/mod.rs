@@ -4,6 +4,7 @@
 mod fields;
 mod gltf;
 mod load;
+mod mapping;
 mod model;
 mod obj;
 mod procedural;

@@ -4,10 +4,11 @@
 
 use super::fields::{numbers, Fields};
 use super::load::{resolve, uv_transform};
+use super::mapping::parse_mapping;
 use crate::bump::normal_map::Convention;
 use crate::bump::TangentNormalMap;
 use crate::image::io;
-use crate::mapping::{MappedTexture, Mapping, UvTransform};
+use crate::mapping::{MappedTexture, Mapping};
 use crate::texture::{Filter, FilterOptions, FilteredTexture, LevelRule, MipFilter, TextureOptions, Wrap};
 use crate::{Error, Result};
 use glam::Vec4;
@@ -15,8 +16,20 @@ use std::path::Path;
 use std::sync::Arc;
 use toml::Value;
 
-const TEXTURE_FIELDS: &[&str] =
-    &["path", "filter", "wrap", "border", "srgb", "repeat", "offset", "rotate", "mipmap", "level", "max_aniso"];
+const TEXTURE_FIELDS: &[&str] = &[
+    "path",
+    "filter",
+    "wrap",
+    "border",
+    "srgb",
+    "repeat",
+    "offset",
+    "rotate",
+    "mapping",
+    "mipmap",
+    "level",
+    "max_aniso",
+];
 /// A normal map's fields beside the texture's.
 const NORMAL_MAP_FIELDS: &[&str] = &["strength", "convention"];
 
@@ -70,10 +83,10 @@ fn parse_texture_with(
         Role::Data => None,
     };
     let srgb_default = role == Role::Colour;
-    let (file, options, srgb, transform) = match v {
+    let (file, options, srgb, mapping) = match v {
         Value::String(s) => {
             let filter = FilterOptions { filter: beside.unwrap_or(Filter::Trilinear), ..FilterOptions::default() };
-            (s.as_str(), TextureOptions { filter, ..TextureOptions::default() }, srgb_default, UvTransform::IDENTITY)
+            (s.as_str(), TextureOptions { filter, ..TextureOptions::default() }, srgb_default, Mapping::default())
         }
         _ => {
             let f = Fields::new(path, v, &[TEXTURE_FIELDS, extra].concat())?;
@@ -105,11 +118,12 @@ fn parse_texture_with(
                 mip_filter: f.choice("mipmap", MipFilter::Box, &MipFilter::NAMES)?,
                 filter,
             };
-            (file, options, f.boolean("srgb", srgb_default)?, uv_transform(&f)?)
+            let mapping = parse_mapping(&f.at("mapping"), f.get("mapping"), uv_transform(&f)?)?;
+            (file, options, f.boolean("srgb", srgb_default)?, mapping)
         }
     };
     let texture = Arc::new(load_texture(&resolve(base, file), srgb, options)?);
-    Ok(MappedTexture { texture, mapping: Mapping::uv(transform) })
+    Ok(MappedTexture { texture, mapping })
 }
 
 /// An image file as a filtered texture.

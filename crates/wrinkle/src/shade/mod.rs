@@ -45,6 +45,9 @@ pub struct ShadedPacket {
     pub color: V3,
     pub normal: V3,
     pub depth: F8,
+    /// The coordinates the colour texture was looked up with, after its mapping and before its uv
+    /// transform (the surface's (u,v) without a texture): what the uv AOV shows.
+    pub uv: (F8, F8),
 }
 
 impl ShadedPacket {
@@ -73,12 +76,13 @@ impl ShadeContext<'_> {
     pub fn shade8(&self, inst: &Instance, at: &SurfaceSamples8) -> ShadedPacket {
         let material = &self.materials[inst.material];
         let frame = &at.frame;
-        let ctx =
+        let mut ctx =
             LookupContext8::on_surface(frame.p, frame.pu, frame.pv, at.uv, at.footprint, inst.object, at.triangles);
-        let n_geo = match &at.mesh {
-            Some(m) => ctx.n * m.side,
-            None => ctx.n,
-        };
+        ctx.object_to_eye = inst.object_to_camera;
+        if let Some(m) = &at.mesh {
+            ctx.n = ctx.n * m.side;
+        }
+        let n_geo = ctx.n;
         let n_obj = match (&material.bump, &material.normal_map, self.bump_enabled) {
             (Some(bump), _, true) => {
                 let filter = match self.bump_filter {
@@ -114,12 +118,12 @@ impl ShadeContext<'_> {
             let back = V3::mul_mat3(&inst.normal_matrix, n_geo).dot(v).cmp_lt(F8::ZERO);
             n = V3::select(back, -n, n);
         }
-        let albedo = match &material.texture {
+        let (albedo, uv) = match &material.texture {
             Some(t) => {
-                let [r, g, b, _] = t.eval8(&ctx);
-                V3::splat(material.color) * V3 { x: r, y: g, z: b }
+                let ([r, g, b, _], uv) = t.eval8_with_coords(&ctx);
+                (V3::splat(material.color) * V3 { x: r, y: g, z: b }, uv)
             }
-            None => V3::splat(material.color),
+            None => (V3::splat(material.color), at.uv),
         };
         let phong = &material.phong;
         let mut color = V3::ZERO;
@@ -138,6 +142,6 @@ impl ShadeContext<'_> {
                 }
             }
         }
-        ShadedPacket { color, normal: n, depth }
+        ShadedPacket { color, normal: n, depth, uv }
     }
 }

@@ -5,7 +5,7 @@
 
 use super::{Footprint, Footprint8};
 use crate::lanes::{F8, LANES, V3};
-use glam::{Vec2, Vec3};
+use glam::{Affine3A, Vec2, Vec3};
 
 /// Which primitive a sample lies on: the object's index in the scene and the triangle's within the object
 /// (for parametric surfaces, the tessellation's).
@@ -32,6 +32,8 @@ pub struct LookupContext {
     pub uv: Vec2,
     pub footprint: Footprint,
     pub primitive: PrimitiveId,
+    /// Object space to eye (camera) space, for mappings defined in eye coordinates.
+    pub object_to_eye: Affine3A,
 }
 
 impl LookupContext {
@@ -48,6 +50,7 @@ impl LookupContext {
             uv,
             footprint,
             primitive: PrimitiveId::default(),
+            object_to_eye: Affine3A::IDENTITY,
         }
     }
 
@@ -77,6 +80,7 @@ pub struct LookupContext8 {
     pub footprint: Footprint8,
     pub object: u32,
     pub triangles: [u32; LANES],
+    pub object_to_eye: Affine3A,
 }
 
 impl LookupContext8 {
@@ -103,6 +107,7 @@ impl LookupContext8 {
             footprint,
             object,
             triangles,
+            object_to_eye: Affine3A::IDENTITY,
         }
     }
 
@@ -118,6 +123,7 @@ impl LookupContext8 {
             uv: Vec2::new(self.u.as_array_ref()[i], self.v.as_array_ref()[i]),
             footprint: self.footprint.lane(i),
             primitive: PrimitiveId { object: self.object, triangle: self.triangles[i] },
+            object_to_eye: self.object_to_eye,
         }
     }
 
