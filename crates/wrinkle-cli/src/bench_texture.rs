@@ -13,8 +13,8 @@ use wrinkle::lanes::{F8, LANES, V3};
 use wrinkle::texture::mip::build_levels;
 use wrinkle::texture::texel::Plane;
 use wrinkle::texture::{
-    Filter, FilterOptions, FilteredTexture, Footprint, Footprint8, LookupContext8, MipFilter, Texture, TextureOptions,
-    Wrap,
+    Filter, FilterOptions, FilteredTexture, Footprint, Footprint8, LookupContext8, MipFilter, SurfaceLanes, Texture,
+    TextureOptions, Wrap,
 };
 use wrinkle::{Error, Result};
 
@@ -119,7 +119,8 @@ fn rate8(tex: &FilteredTexture, set: &[Lookup], parallel: bool, rounds: usize) -
             let footprints = Footprint8::from_lanes(&std::array::from_fn(|i| p[i].fp));
             let z = V3::splat(Vec3::ZERO);
             let uv = (lane(|l| l.st.x), lane(|l| l.st.y));
-            let ctx = LookupContext8::on_surface(z, z, z, uv, footprints, 0, [0; LANES]);
+            let surface = SurfaceLanes::new(z, z, z, &footprints, 0, [0; LANES]);
+            let ctx = LookupContext8 { surface: &surface, u: uv.0, v: uv.1, footprint: footprints };
             let [r, g, b, a] = tex.eval8(&ctx);
             acc + Vec4::new(r.reduce_add(), g.reduce_add(), b.reduce_add(), a.reduce_add())
         })

@@ -65,7 +65,7 @@ impl BumpMap {
     /// F, Fu, Fv on eight lanes: a table through the surface's (u,v) on the lanes, anything else lane by
     /// lane.
     #[inline]
-    pub fn eval8(&self, ctx: &LookupContext8, filter: &FilterOptions) -> [F8; 3] {
+    pub fn eval8(&self, ctx: &LookupContext8<'_>, filter: &FilterOptions) -> [F8; 3] {
         let (BumpSource::Table(table), Some(jacobian)) = (&self.source, self.mapping.constant_jacobian()) else {
             let g: [Gradient; 8] = std::array::from_fn(|i| self.eval(&ctx.lane(i), filter));
             return [F8::new(g.map(|g| g.f)), F8::new(g.map(|g| g.fu)), F8::new(g.map(|g| g.fv))];

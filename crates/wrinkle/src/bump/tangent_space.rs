@@ -18,7 +18,7 @@ impl TangentNormalMap {
     /// The perturbed unit normals of eight samples whose unit normals are `n`, unit tangents `t`
     /// (perpendicular to `n`) and bitangent signs `w`.
     #[inline]
-    pub fn normal8(&self, ctx: &LookupContext8, n: V3, t: V3, w: F8) -> V3 {
+    pub fn normal8(&self, ctx: &LookupContext8<'_>, n: V3, t: V3, w: F8) -> V3 {
         let [r, g, b, _] = self.texture.eval8(ctx);
         let (two, one) = (F8::splat(2.0), F8::ONE);
         let s = F8::splat(self.strength);

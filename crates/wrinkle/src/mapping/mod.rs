@@ -61,13 +61,20 @@ impl Mapping {
     }
 
     /// `apply` on eight lanes, and the coordinates before the uv transform (what the uv AOV shows).
-    #[inline]
-    pub fn apply8(&self, ctx: &LookupContext8) -> (LookupContext8, (F8, F8)) {
-        let t = &self.transform;
-        if self.projection == Projection::Uv {
-            let (u, v) = t.point8(ctx.u, ctx.v);
-            return (LookupContext8 { u, v, footprint: t.footprint8(&ctx.footprint), ..*ctx }, (ctx.u, ctx.v));
+    #[inline(always)]
+    pub fn apply8<'a>(&self, ctx: &LookupContext8<'a>) -> (LookupContext8<'a>, (F8, F8)) {
+        if self.projection != Projection::Uv {
+            return self.projected8(ctx);
         }
+        let t = &self.transform;
+        let (u, v) = t.point8(ctx.u, ctx.v);
+        (LookupContext8 { u, v, footprint: t.footprint8(&ctx.footprint), surface: ctx.surface }, (ctx.u, ctx.v))
+    }
+
+    /// `apply8` of a projection from the point: lane by lane.
+    #[inline(never)]
+    fn projected8<'a>(&self, ctx: &LookupContext8<'a>) -> (LookupContext8<'a>, (F8, F8)) {
+        let t = &self.transform;
         let lanes: [(Vec2, Footprint, Vec2); 8] = std::array::from_fn(|i| {
             let c = ctx.lane(i);
             let (st, fp, _) = self.projected(&c);
@@ -76,7 +83,7 @@ impl Mapping {
         });
         let lane = |f: fn(&(Vec2, Footprint, Vec2)) -> f32| F8::new(lanes.map(|l| f(&l)));
         let footprint = Footprint8::from_lanes(&lanes.map(|l| l.1));
-        let mapped = LookupContext8 { u: lane(|l| l.0.x), v: lane(|l| l.0.y), footprint, ..*ctx };
+        let mapped = LookupContext8 { u: lane(|l| l.0.x), v: lane(|l| l.0.y), footprint, surface: ctx.surface };
         (mapped, (lane(|l| l.2.x), lane(|l| l.2.y)))
     }
 
@@ -148,13 +155,13 @@ impl MappedTexture {
     }
 
     #[inline]
-    pub fn eval8(&self, ctx: &LookupContext8) -> [F8; 4] {
+    pub fn eval8(&self, ctx: &LookupContext8<'_>) -> [F8; 4] {
         self.eval8_with_coords(ctx).0
     }
 
     /// `eval8`, and the coordinates before the uv transform.
     #[inline]
-    pub fn eval8_with_coords(&self, ctx: &LookupContext8) -> ([F8; 4], (F8, F8)) {
+    pub fn eval8_with_coords(&self, ctx: &LookupContext8<'_>) -> ([F8; 4], (F8, F8)) {
         let (mapped, coords) = self.mapping.apply8(ctx);
         (self.texture.eval8(&mapped), coords)
     }

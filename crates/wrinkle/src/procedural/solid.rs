@@ -57,13 +57,13 @@ impl Texture for Procedural {
     }
 
     /// The pixel sizes of a solid texture on the lanes, then the pattern lane by lane.
-    fn eval8(&self, ctx: &LookupContext8) -> [F8; 4] {
+    fn eval8(&self, ctx: &LookupContext8<'_>) -> [F8; 4] {
         if self.space == Space::Uv {
             return lane_by_lane(self, ctx);
         }
-        let widths = ctx.pixel_widths();
+        let widths = ctx.surface.pixel_widths();
         let texels: [Vec4; LANES] =
-            std::array::from_fn(|i| self.color(ctx.p.lane(i).to_array(), widths.as_array_ref()[i]));
+            std::array::from_fn(|i| self.color(ctx.surface.p.lane(i).to_array(), widths.as_array_ref()[i]));
         std::array::from_fn(|c| F8::new(texels.map(|t| t[c])))
     }
 }

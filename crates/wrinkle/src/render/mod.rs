@@ -422,21 +422,25 @@ impl TileJob<'_> {
         // Each of the spp stratified samples stands for its own 1/spp of the pixel: the texture filters
         // integrate over that cell, not the whole pixel again.
         let triangles = tris.map(|t| t.triangle);
+        // Each primitive's frame stays where it was made; the shader borrows it (one call site, no copies).
+        let (parametric, mesh_sample);
         let samples = match &inst.primitive {
             Primitive::Parametric(surface) => {
                 let [dudx, dvdx, dudy, dvdy] = at.duv.map(|d| d * F8::splat(self.sample_cell));
                 let max_step = self.max_steps[packet.surface as usize];
-                let (uv, frame) = refine_uv8(self.camera, surface, &inst.object_to_camera, at.uv, (sx, sy), max_step);
-                SurfaceSamples8 { frame, uv, footprint: Footprint8 { dudx, dvdx, dudy, dvdy }, triangles, mesh: None }
+                parametric = refine_uv8(self.camera, surface, &inst.object_to_camera, at.uv, (sx, sy), max_step);
+                let footprint = Footprint8 { dudx, dvdx, dudy, dvdy };
+                SurfaceSamples8 { frame: &parametric.1, uv: parametric.0, footprint, triangles, mesh: None }
             }
             Primitive::Mesh(mesh) => {
                 // The mesh's own triangle numbers: the object's numbering less its earlier primitives'.
                 let first = self.first_triangles[packet.surface as usize];
                 let local = triangles.map(|t| t - first);
                 let rays = self.camera.rays8(sx, sy, self.sample_cell).transformed(&inst.camera_to_object);
-                let m = mesh_lanes::sample8(mesh, &local, &rays);
+                mesh_sample = mesh_lanes::sample8(mesh, &local, &rays);
+                let m = &mesh_sample;
                 SurfaceSamples8 {
-                    frame: m.frame,
+                    frame: &m.frame,
                     uv: m.uv,
                     footprint: m.footprint,
                     triangles,
@@ -448,7 +452,7 @@ impl TileJob<'_> {
         let uv = result.uv;
         for i in 0..packet.len {
             let uv = Vec2::new(uv.0.as_array_ref()[i], uv.1.as_array_ref()[i]);
-            let triangle = samples.triangles[i];
+            let triangle = triangles[i];
             shaded[packet.samples[i]] = Shaded { shaded: result.lane(i), uv, object: inst.object, triangle };
         }
         packet.len = 0;

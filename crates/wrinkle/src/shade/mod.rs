@@ -14,7 +14,7 @@ use crate::geometry::mesh_lanes::MeshFrame8;
 use crate::geometry::Instance;
 use crate::lanes::{CmpLt, F8, LANES, V3};
 use crate::light::Light;
-use crate::texture::{Filter, FilterOptions, Footprint8, LookupContext8};
+use crate::texture::{Filter, FilterOptions, Footprint8, LookupContext8, SurfaceLanes};
 use glam::Vec3;
 
 /// What the shader needs besides the surface: the eye, the lights, the materials and switches.
@@ -57,9 +57,9 @@ impl ShadedPacket {
 }
 
 /// Eight samples of one primitive as the shader receives them.
-pub struct SurfaceSamples8 {
+pub struct SurfaceSamples8<'a> {
     /// P, Pu, Pv (and the second derivatives of parametric surfaces) in object space.
-    pub frame: Frame8,
+    pub frame: &'a Frame8,
     pub uv: (F8, F8),
     pub footprint: Footprint8,
     /// Each sample's triangle, numbered within its object.
@@ -73,16 +73,16 @@ impl ShadeContext<'_> {
     /// Shades eight samples of one primitive. Lookups go through their lane forms; everything else runs
     /// on all lanes at once.
     #[inline]
-    pub fn shade8(&self, inst: &Instance, at: &SurfaceSamples8) -> ShadedPacket {
+    pub fn shade8(&self, inst: &Instance, at: &SurfaceSamples8<'_>) -> ShadedPacket {
         let material = &self.materials[inst.material];
-        let frame = &at.frame;
-        let mut ctx =
-            LookupContext8::on_surface(frame.p, frame.pu, frame.pv, at.uv, at.footprint, inst.object, at.triangles);
-        ctx.object_to_eye = inst.object_to_camera;
+        let frame = at.frame;
+        let mut surface = SurfaceLanes::new(frame.p, frame.pu, frame.pv, &at.footprint, inst.object, at.triangles);
+        surface.object_to_eye = inst.object_to_camera;
         if let Some(m) = &at.mesh {
-            ctx.n = ctx.n * m.side;
+            surface.n = surface.n * m.side;
         }
-        let n_geo = ctx.n;
+        let n_geo = surface.n;
+        let ctx = LookupContext8 { surface: &surface, u: at.uv.0, v: at.uv.1, footprint: at.footprint };
         let n_obj = match (&material.bump, &material.normal_map, self.bump_enabled) {
             (Some(bump), _, true) => {
                 let filter = match self.bump_filter {

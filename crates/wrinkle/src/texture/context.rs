@@ -66,64 +66,37 @@ impl LookupContext {
     }
 }
 
-/// Eight contexts of one primitive at once (the packet shader's), vectors as structures of arrays.
+/// What eight samples of one primitive share with every lookup besides their texture coordinates: the
+/// surface at each (object space), as structures of arrays.
 #[derive(Clone, Copy, Debug)]
-pub struct LookupContext8 {
+pub struct SurfaceLanes {
     pub p: V3,
     pub dpdx: V3,
     pub dpdy: V3,
+    /// The outward geometric normal (not unit).
     pub n: V3,
     pub dpdu: V3,
     pub dpdv: V3,
-    pub u: F8,
-    pub v: F8,
-    pub footprint: Footprint8,
     pub object: u32,
     pub triangles: [u32; LANES],
     pub object_to_eye: Affine3A,
 }
 
-impl LookupContext8 {
-    /// `LookupContext::on_surface` on every lane.
+impl SurfaceLanes {
+    /// Eight points with tangents `dpdu`, `dpdv` whose (u,v) screen derivatives are `footprint`:
+    /// dP/dx = Pu du/dx + Pv dv/dx on every lane.
     #[inline]
-    pub fn on_surface(
-        p: V3,
-        dpdu: V3,
-        dpdv: V3,
-        uv: (F8, F8),
-        footprint: Footprint8,
-        object: u32,
-        triangles: [u32; LANES],
-    ) -> LookupContext8 {
-        LookupContext8 {
+    pub fn new(p: V3, dpdu: V3, dpdv: V3, footprint: &Footprint8, object: u32, triangles: [u32; LANES]) -> Self {
+        SurfaceLanes {
             p,
             dpdx: dpdu * footprint.dudx + dpdv * footprint.dvdx,
             dpdy: dpdu * footprint.dudy + dpdv * footprint.dvdy,
             n: dpdu.cross(dpdv),
             dpdu,
             dpdv,
-            u: uv.0,
-            v: uv.1,
-            footprint,
             object,
             triangles,
             object_to_eye: Affine3A::IDENTITY,
-        }
-    }
-
-    /// The context of lane `i`.
-    pub fn lane(&self, i: usize) -> LookupContext {
-        LookupContext {
-            p: self.p.lane(i),
-            dpdx: self.dpdx.lane(i),
-            dpdy: self.dpdy.lane(i),
-            n: self.n.lane(i),
-            dpdu: self.dpdu.lane(i),
-            dpdv: self.dpdv.lane(i),
-            uv: Vec2::new(self.u.as_array_ref()[i], self.v.as_array_ref()[i]),
-            footprint: self.footprint.lane(i),
-            primitive: PrimitiveId { object: self.object, triangle: self.triangles[i] },
-            object_to_eye: self.object_to_eye,
         }
     }
 
@@ -131,6 +104,35 @@ impl LookupContext8 {
     #[inline]
     pub fn pixel_widths(&self) -> F8 {
         self.dpdx.cross(self.dpdy).length().sqrt()
+    }
+}
+
+/// Eight contexts of one primitive at once (the packet shader's): the shared surface, borrowed, and each
+/// lookup's own texture coordinates, so that a mapping makes a new context without copying the surface.
+#[derive(Clone, Copy, Debug)]
+pub struct LookupContext8<'a> {
+    pub surface: &'a SurfaceLanes,
+    pub u: F8,
+    pub v: F8,
+    pub footprint: Footprint8,
+}
+
+impl LookupContext8<'_> {
+    /// The context of lane `i`.
+    pub fn lane(&self, i: usize) -> LookupContext {
+        let s = self.surface;
+        LookupContext {
+            p: s.p.lane(i),
+            dpdx: s.dpdx.lane(i),
+            dpdy: s.dpdy.lane(i),
+            n: s.n.lane(i),
+            dpdu: s.dpdu.lane(i),
+            dpdv: s.dpdv.lane(i),
+            uv: Vec2::new(self.u.as_array_ref()[i], self.v.as_array_ref()[i]),
+            footprint: self.footprint.lane(i),
+            primitive: PrimitiveId { object: s.object, triangle: s.triangles[i] },
+            object_to_eye: s.object_to_eye,
+        }
     }
 }
 
@@ -149,9 +151,10 @@ mod tests {
         let lanes = |a: f32| V3::from_lanes(&std::array::from_fn(|k| v(k, a)));
         let uv = (F8::new(std::array::from_fn(|k| 0.1 * k as f32)), F8::splat(0.25));
         let triangles = std::array::from_fn(|k| 10 * k as u32);
-        let fp8 = Footprint8::from_lanes(&footprints);
-        let ctx8 = LookupContext8::on_surface(lanes(0.2), lanes(1.5), lanes(-0.7), uv, fp8, 3, triangles);
-        let widths = ctx8.pixel_widths();
+        let footprint = Footprint8::from_lanes(&footprints);
+        let surface = SurfaceLanes::new(lanes(0.2), lanes(1.5), lanes(-0.7), &footprint, 3, triangles);
+        let ctx8 = LookupContext8 { surface: &surface, u: uv.0, v: uv.1, footprint };
+        let widths = surface.pixel_widths();
         for (k, &fp) in footprints.iter().enumerate() {
             let mut want =
                 LookupContext::on_surface(v(k, 0.2), v(k, 1.5), v(k, -0.7), Vec2::new(0.1 * k as f32, 0.25), fp);

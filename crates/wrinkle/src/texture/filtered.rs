@@ -138,7 +138,7 @@ impl Texture for FilteredTexture {
         self.lookup(ctx.uv.x, ctx.uv.y, &ctx.footprint)
     }
 
-    fn eval8(&self, ctx: &LookupContext8) -> [F8; 4] {
+    fn eval8(&self, ctx: &LookupContext8<'_>) -> [F8; 4] {
         match (self.path, &*self.data) {
             (Path::Trilinear8, Levels::Bytes(d)) => trilinear8(d.levels(), ctx.u, ctx.v, &ctx.footprint),
             _ => lane_by_lane(self, ctx),

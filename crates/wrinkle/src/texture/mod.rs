@@ -17,7 +17,7 @@ pub mod texel;
 pub mod trilinear8;
 pub mod wrap;
 
-pub use context::{LookupContext, LookupContext8, PrimitiveId};
+pub use context::{LookupContext, LookupContext8, PrimitiveId, SurfaceLanes};
 pub use filter::{Filter, FilterOptions, Filterable};
 pub use filtered::{FilteredTexture, TextureOptions};
 pub use footprint::{Footprint, Footprint8};
@@ -37,7 +37,7 @@ pub trait Texture: Send + Sync {
 
     /// Eight lookups at once (the packet shader's), as four channel lanes (R, G, B, A). Sources with a
     /// faster way override it; by default, one `eval` per lane.
-    fn eval8(&self, ctx: &LookupContext8) -> [F8; 4] {
+    fn eval8(&self, ctx: &LookupContext8<'_>) -> [F8; 4] {
         lane_by_lane(self, ctx)
     }
 
@@ -49,7 +49,7 @@ pub trait Texture: Send + Sync {
 }
 
 /// `eval` once per lane, transposed to channel lanes.
-pub fn lane_by_lane<T: Texture + ?Sized>(texture: &T, ctx: &LookupContext8) -> [F8; 4] {
+pub fn lane_by_lane<T: Texture + ?Sized>(texture: &T, ctx: &LookupContext8<'_>) -> [F8; 4] {
     let texels: [Vec4; LANES] = std::array::from_fn(|i| texture.eval(&ctx.lane(i)));
     std::array::from_fn(|c| F8::new(texels.map(|t| t[c])))
 }
