@@ -100,7 +100,43 @@ impl TriangleMesh {
         let mut corners = Corners { mesh: self, uv_set, tangents };
         let ok = mikktspace::generate_tangents(&mut corners);
         self.tangents = corners.tangents;
+        self.weld();
         ok
+    }
+
+    /// Merges vertices whose data are bit for bit the same (the corners MikkTSpace gave the same tangent),
+    /// so a smooth mesh is back to one vertex per corner shared by its triangles: fewer to project per frame.
+    fn weld(&mut self) {
+        let key = |k: usize| {
+            let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<u32>>();
+            let mut b = bits(&self.positions[k].to_array());
+            b.extend(bits(&self.normals[k].to_array()));
+            for set in &self.uv_sets {
+                b.extend(bits(&set[k].to_array()));
+            }
+            b.extend(bits(&self.tangents[k].to_array()));
+            b
+        };
+        let mut index = std::collections::HashMap::with_capacity(self.positions.len() / 2);
+        let mut keep = Vec::new();
+        let remap: Vec<u32> = (0..self.positions.len())
+            .map(|k| {
+                *index.entry(key(k)).or_insert_with(|| {
+                    keep.push(k);
+                    keep.len() as u32 - 1
+                })
+            })
+            .collect();
+        let pick = |v: &Vec<Vec3>| keep.iter().map(|&k| v[k]).collect::<Vec<_>>();
+        self.positions = pick(&self.positions);
+        self.normals = pick(&self.normals);
+        for set in &mut self.uv_sets {
+            *set = keep.iter().map(|&k| set[k]).collect();
+        }
+        self.tangents = keep.iter().map(|&k| self.tangents[k]).collect();
+        for t in &mut self.triangles {
+            *t = t.map(|k| remap[k as usize]);
+        }
     }
 
     /// Three vertices of its own for every triangle.
@@ -211,7 +247,8 @@ mod tests {
         let mut m = square();
         m.compute_normals();
         assert!(m.generate_tangents(0));
-        assert_eq!(m.positions.len(), 6);
+        // Split into corners for MikkTSpace, then welded back: the shared corners have the same tangent.
+        assert_eq!(m.positions.len(), 4);
         for t in &m.tangents {
             assert!((t.truncate() - Vec3::X).length() < 1e-5 && t.w == 1.0, "{t}");
         }

@@ -6,6 +6,7 @@ use super::clip::{clip_planes, clip_polygon, inside_all, ClipVertex};
 use super::SUBPIXEL;
 use crate::lanes::{F8, LANES};
 use glam::{Affine3A, Vec2, Vec3, Vec4};
+use rayon::prelude::*;
 
 /// a(x, y) = a0 + ax (x - x0) + ay (y - y0): an attribute that is affine in screen space.
 #[derive(Clone, Copy, Debug, Default)]
@@ -155,12 +156,18 @@ impl<'a> TriangleSetup<'a> {
         uvs: Option<&[Vec2]>,
         object_to_camera: &Affine3A,
     ) -> Vec<ProjectedVertex> {
+        // Big meshes in parallel chunks: one mesh is often the whole scene.
+        const CHUNK: usize = 1 << 14;
         let uv = |k: usize| uvs.map_or(Vec2::ZERO, |u| u[k]);
-        positions
-            .iter()
-            .enumerate()
-            .map(|(k, &p)| self.project(ClipVertex { pos: object_to_camera.transform_point3(p), uv: uv(k) }))
-            .collect()
+        let mut out = Vec::with_capacity(positions.len());
+        out.par_extend(
+            positions
+                .par_iter()
+                .enumerate()
+                .with_min_len(CHUNK)
+                .map(|(k, &p)| self.project(ClipVertex { pos: object_to_camera.transform_point3(p), uv: uv(k) })),
+        );
+        out
     }
 
     fn project(&self, clip: ClipVertex) -> ProjectedVertex {
