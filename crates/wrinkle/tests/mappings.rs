@@ -97,3 +97,44 @@ fn projected_bump_maps_match_the_uv_bump() {
     let (d, control) = (mean_difference(&uv.color, &projected.color), mean_difference(&uv.color, &flat.color));
     assert!(d < 0.05 * control, "projected bumps differ by {d}, the bumps themselves make {control}");
 }
+
+/// The course's triangle mapping gives a mesh without texture coordinates the ones three reference points
+/// define; a patch's `uv_corners` (inverse bilinear interpolation) place the corners' coordinates.
+#[test]
+fn triangle_and_quad_mappings_from_reference_points() {
+    let dir = scratch_dir("reference-points");
+    let tex = tiles();
+    let quad = "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n";
+    std::fs::write(
+        dir.join("with_uv.obj"),
+        format!("{quad}vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n"),
+    )
+    .unwrap();
+    std::fs::write(dir.join("bare.obj"), format!("{quad}f 1 2 3\nf 1 3 4\n")).unwrap();
+    let size = 64;
+    let with_uv =
+        format!("shape = \"mesh\"\nfile = \"with_uv.obj\"\nmaterial = {{ texture = {{ path = \"{tex}\" }} }}");
+    let bare = format!(
+        "shape = \"mesh\"\nfile = \"bare.obj\"\nmaterial = {{ texture = {{ path = \"{tex}\", mapping = {{ type = \"triangle\", \
+         points = [[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [-1.0, 1.0, 0.0]], uv = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]] }} }} }}"
+    );
+    let a = render_all_aovs(&scene(&with_uv), &dir, size, size, 1);
+    let b = render_all_aovs(&scene(&bare), &dir, size, size, 1);
+    let d = mean_difference(&a.color, &b.color);
+    assert!(d < 2e-3, "triangle mapping against the mesh's own uv: {d}");
+
+    // uv_corners stretch the patch's u twice over: the uv AOV reads (2u, v), and (u, v) without them.
+    let patch =
+        "shape = \"patch\"\ncorners = [[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.2, 1.0, -0.5], [-0.8, 1.0, -0.5]]";
+    let plain = format!("{patch}\nmaterial = {{ texture = {{ path = \"{tex}\" }} }}");
+    let cornered = format!("{patch}\nuv_corners = [[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.0, 1.0]]\nmaterial = {{ texture = {{ path = \"{tex}\" }} }}");
+    let (p, c) =
+        (render_all_aovs(&scene(&plain), &dir, size, size, 1), render_all_aovs(&scene(&cornered), &dir, size, size, 1));
+    let (pu, cu) = (p.uv.as_ref().unwrap(), c.uv.as_ref().unwrap());
+    let mut n = 0;
+    for (x, y) in pu.iter().zip(cu).filter(|(x, _)| x[0].is_finite()) {
+        assert!((y[0] - 2.0 * x[0]).abs() < 2e-3 && (y[1] - x[1]).abs() < 2e-3, "{x:?} -> {y:?}");
+        n += 1;
+    }
+    assert!(n > 500, "{n} pixels on the patch");
+}

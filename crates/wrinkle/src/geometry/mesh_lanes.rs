@@ -56,6 +56,10 @@ pub struct MeshFrame8 {
     /// the bitangent is w (N x T).
     pub tangent: V3,
     pub tangent_sign: F8,
+    /// How P moves across one pixel step in x and y, from the ray differentials (also where the mesh has
+    /// no texture coordinates to carry them).
+    pub dpdx: V3,
+    pub dpdy: V3,
 }
 
 /// Samples `mesh` where `rays` meet the triangles `tris` (one per lane), texture coordinates from set 0.
@@ -134,7 +138,7 @@ pub fn sample8(mesh: &TriangleMesh, tris: &[u32; LANES], rays: &Rays8) -> MeshSa
         frame: Frame8 { p, pu, pv, puu: zero, puv: zero, pvv: zero },
         uv,
         footprint: Footprint8 { dudx, dvdx, dudy, dvdy },
-        orientation: MeshFrame8 { side, tangent, tangent_sign },
+        orientation: MeshFrame8 { side, tangent, tangent_sign, dpdx, dpdy },
     }
 }
 

@@ -8,6 +8,7 @@
 //! its footprint by differences across the pixel: (s,t) at P + dP/dx / 2 less (s,t) at P - dP/dx / 2, the
 //! discrete choices (a box face) held fixed and the seam of an angle taken modulo one turn.
 
+pub mod polygon;
 pub mod projection;
 mod uv_transform;
 

@@ -15,7 +15,10 @@
 //! - texgen: `object_linear` and `eye_linear` (s = plane . (x, y, z, 1) in object or eye coordinates, as
 //!   glTexGen), `sphere_map` (OpenGL's: the eye-space reflection vector r, m = 2 sqrt(rx^2 + ry^2 +
 //!   (rz + 1)^2), s = rx / m + 1/2, t = ry / m + 1/2).
+//! - `triangle` and `quad`: the course's triangle and quadrilateral mappings from reference points with
+//!   their texture coordinates (polygon.rs).
 
+use super::polygon::{QuadMapping, TriangleMapping};
 use glam::{Affine3A, Mat3, Vec2, Vec3, Vec4};
 use std::f32::consts::{PI, TAU};
 
@@ -79,6 +82,10 @@ pub enum Projection {
     },
     /// GL_SPHERE_MAP.
     SphereMap,
+    /// The linear map of three reference points to their texture coordinates (polygon.rs).
+    Triangle(TriangleMapping),
+    /// Inverse bilinear interpolation in a quadrilateral with texture coordinates at its corners.
+    Quad(QuadMapping),
 }
 
 /// What a projection reads of a sample, in mapping space (`eye` and the eye-space values for texgen).
@@ -139,6 +146,8 @@ impl Projection {
             }
             Projection::ObjectLinear { s, t } => Vec2::new(s.dot(q.extend(1.0)), t.dot(q.extend(1.0))),
             Projection::EyeLinear { s, t } => Vec2::new(s.dot(at.q_eye.extend(1.0)), t.dot(at.q_eye.extend(1.0))),
+            Projection::Triangle(m) => m.uv(q),
+            Projection::Quad(m) => m.uv(q),
             Projection::SphereMap => {
                 let u = at.q_eye.normalize_or_zero();
                 let r = u - 2.0 * at.n_eye * at.n_eye.dot(u);

@@ -1,7 +1,7 @@
 //! Reading a scene from TOML, field by field, with paths resolved against the scene file's folder.
 
 use super::fields::{number_value, points, vec3_value, Fields};
-use super::mapping::parse_mapping;
+use super::mapping::{parse_mapping, uv_list};
 use super::procedural;
 use super::texture::{parse_normal_map, parse_texture, Role};
 use super::{CameraDesc, Object, Scene};
@@ -11,7 +11,8 @@ use crate::bump::{BumpFormula, BumpMap, BumpSource, BumpTable};
 use crate::geometry::{MeshPart, Shape, Surface, Transform};
 use crate::image::io;
 use crate::light::Light;
-use crate::mapping::UvTransform;
+use crate::mapping::polygon::QuadMapping;
+use crate::mapping::{Mapping, Projection as MapProjection, UvTransform};
 use crate::raster::Projection;
 use crate::shade::{Material, Phong};
 use crate::texture::reconstruct::Kernel;
@@ -183,6 +184,7 @@ const SHAPE_FIELDS: &[&str] = &[
     "major_radius",
     "minor_radius",
     "corners",
+    "uv_corners",
     "points",
     "size",
 ];
@@ -207,7 +209,7 @@ fn parse_object(path: &str, v: &Value, base: &Path, materials: &mut Vec<Material
         "sphere" => &["radius"],
         "cylinder" => &["radius", "height"],
         "torus" => &["major_radius", "minor_radius"],
-        "patch" => &["corners"],
+        "patch" => &["corners", "uv_corners"],
         "bicubic" => &["points"],
         "box" => &["size"],
         other => {
@@ -250,12 +252,30 @@ fn parse_object(path: &str, v: &Value, base: &Path, materials: &mut Vec<Material
             Shape::Box { size }
         }
     };
-    let material = match f.get("material") {
+    let mut material = match f.get("material") {
         Some(m) => parse_material(&f.at("material"), m, base, default_material())?,
         None => default_material(),
     };
+    if let (Some(uv), Shape::Surface(Surface::Patch { corners })) = (f.get("uv_corners"), &shape) {
+        quad_mapped(&mut material, *corners, &uv_list(&f.at("uv_corners"), uv, 4)?);
+    }
     materials.push(material);
     Ok(Object { shape, transform, material: materials.len() - 1 })
+}
+
+/// A patch's `uv_corners`: every texture the material reads through the patch's own (u,v) reads instead
+/// the corners' texture coordinates, by inverse bilinear interpolation in the patch.
+fn quad_mapped(material: &mut Material, corners: [Vec3; 4], uv: &[Vec2]) {
+    let quad =
+        MapProjection::Quad(QuadMapping { corners: corners.map(|c| c.as_dvec3()), uv: std::array::from_fn(|k| uv[k]) });
+    let mut mappings: Vec<&mut Mapping> = Vec::new();
+    mappings.extend(material.texture.as_mut().map(|t| &mut t.mapping));
+    mappings.extend(material.specular_map.as_mut().map(|t| &mut t.mapping));
+    mappings.extend(material.normal_map.as_mut().map(|t| &mut t.texture.mapping));
+    mappings.extend(material.bump.as_mut().map(|b| &mut b.mapping));
+    for m in mappings.into_iter().filter(|m| m.projection == MapProjection::Uv) {
+        m.projection = quad;
+    }
 }
 
 /// A model file's meshes, each with the file's material under the fields of the scene's `material`.

@@ -1,15 +1,17 @@
 //! A texture's or bump's `mapping = { type = "...", ... }` (docs/scene-format.md, "Mappings"): which
 //! projection gives the texture coordinates, and where it sits on the object (`placement`).
 
-use super::fields::{numbers, Fields};
+use super::fields::{numbers, points, Fields};
 use super::load::parse_transform;
+use crate::mapping::polygon::{QuadMapping, TriangleMapping};
 use crate::mapping::projection::{Projector, SphereRange, Surface};
 use crate::mapping::{Mapping, Projection, UvTransform};
 use crate::{Error, Result};
 use glam::{Affine3A, Vec4};
 use toml::Value;
 
-const FIELDS: &[&str] = &["type", "placement", "longitude", "latitude", "surface", "projector", "flip", "s", "t"];
+const FIELDS: &[&str] =
+    &["type", "placement", "longitude", "latitude", "surface", "projector", "flip", "s", "t", "points", "uv"];
 const TYPES: &[(&str, &[&str])] = &[
     ("uv", &[]),
     ("planar", &["placement"]),
@@ -20,6 +22,8 @@ const TYPES: &[(&str, &[&str])] = &[
     ("object_linear", &["s", "t"]),
     ("eye_linear", &["s", "t"]),
     ("sphere_map", &[]),
+    ("triangle", &["points", "uv"]),
+    ("quad", &["points", "uv"]),
 ];
 
 /// The mapping at `path` (absent: the surface's (u,v)), placed in (u,v) by `transform`.
@@ -95,6 +99,17 @@ pub fn parse_mapping(path: &str, v: Option<&Value>, transform: UvTransform) -> R
                 Projection::EyeLinear { s, t }
             }
         }
+        "triangle" => {
+            let (points, uv) = (corner_points(&f, 3)?, corner_uvs(&f, 3)?);
+            let m = TriangleMapping::new([points[0], points[1], points[2]], [uv[0], uv[1], uv[2]])
+                .ok_or_else(|| Error::scene(f.at("points"), "the three points must span a triangle"))?;
+            Projection::Triangle(m)
+        }
+        "quad" => {
+            let (points, uv) = (corner_points(&f, 4)?, corner_uvs(&f, 4)?);
+            let corners = std::array::from_fn(|k| points[k].as_dvec3());
+            Projection::Quad(QuadMapping { corners, uv: std::array::from_fn(|k| uv[k]) })
+        }
         _ => Projection::SphereMap,
     };
     let to_mapping = match f.get("placement") {
@@ -102,4 +117,27 @@ pub fn parse_mapping(path: &str, v: Option<&Value>, transform: UvTransform) -> R
         None => Affine3A::IDENTITY,
     };
     Ok(Mapping { projection, to_mapping, transform })
+}
+
+/// `points`: `n` points in object space, P00, P10, P11, P01 for a quad.
+fn corner_points(f: &Fields, n: usize) -> Result<Vec<glam::Vec3>> {
+    let v = f.required("points", f.get("points"))?;
+    points(&f.at("points"), v, n)
+}
+
+/// `uv`: the texture coordinates at the `n` points.
+fn corner_uvs(f: &Fields, n: usize) -> Result<Vec<glam::Vec2>> {
+    uv_list(&f.at("uv"), f.required("uv", f.get("uv"))?, n)
+}
+
+/// An array of `n` [u, v] pairs.
+pub(super) fn uv_list(path: &str, v: &Value, n: usize) -> Result<Vec<glam::Vec2>> {
+    match v {
+        Value::Array(a) if a.len() == n => a
+            .iter()
+            .enumerate()
+            .map(|(k, x)| numbers(&format!("{path}[{k}]"), x, 2).map(|c| glam::Vec2::new(c[0], c[1])))
+            .collect(),
+        _ => Err(Error::scene(path, format!("expected an array of {n} [u, v] pairs"))),
+    }
 }

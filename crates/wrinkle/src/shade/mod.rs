@@ -80,6 +80,7 @@ impl ShadeContext<'_> {
         surface.object_to_eye = inst.object_to_camera;
         if let Some(m) = &at.mesh {
             surface.n = surface.n * m.side;
+            (surface.dpdx, surface.dpdy) = (m.dpdx, m.dpdy);
         }
         let n_geo = surface.n;
         let ctx = LookupContext8 { surface: &surface, u: at.uv.0, v: at.uv.1, footprint: at.footprint };
