@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# A 1M-triangle textured, normal-mapped mesh (the canonical scene's bricks on a UV sphere of 1000 x 500
+# quads, OBJ with its .mtl) at 1920x1080, 1 spp, trilinear: the render of one frame in-process (median of 9
+# after a warm-up) and the whole command, which loads the model (OBJ parse, MikkTSpace tangents).
+# Usage: bench/mesh.sh [ROUNDS]   (from the repository root)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+rounds=${1:-3}
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+cargo build --release -q -p wrinkle-cli
+bin=target/release/wrinkle
+python3 bench/mesh_sphere.py "$dir"
+cp ../shared/canonical/bricks_color.png "$dir/"
+$bin normalmap ../shared/canonical/bricks_height.png -o "$dir/bricks_normal.png" --strength 2 --wrap
+cat > "$dir/mesh.toml" <<'TOML'
+[camera]
+eye = [0.0, 0.0, 4.0]
+look_at = [0.0, 0.0, 0.0]
+fov_y = 40.0
+[[light]]
+type = "directional"
+direction = [-0.5, -0.5, -1.0]
+[[light]]
+type = "directional"
+direction = [0.6, 0.3, -1.0]
+intensity = 0.4
+[[object]]
+shape = "mesh"
+file = "sphere.obj"
+two_sided = false
+TOML
+for ((r = 0; r < rounds; r++)); do
+  start=$(date +%s.%N)
+  $bin bench "$dir/mesh.toml" --width 1920 --height 1080 --frames 9
+  echo "whole command: $(echo "$(date +%s.%N) - $start" | bc) s"
+done
