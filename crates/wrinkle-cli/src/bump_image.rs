@@ -121,6 +121,7 @@ pub fn scene(args: &BumpArgs, table: BumpTable, texture: Option<FilteredTexture>
             shape: Shape::Surface(Surface::Patch { corners }),
             transform: Transform::default(),
             material: 0,
+            affine: false,
         }],
         materials: vec![material],
         volumes: Vec::new(),

@@ -6,6 +6,7 @@
 mod common;
 
 use common::{render_all_aovs, scratch_dir};
+use glam::DVec3;
 use std::path::Path;
 
 fn tiles() -> String {
@@ -137,4 +138,44 @@ fn triangle_and_quad_mappings_from_reference_points() {
         n += 1;
     }
     assert!(n > 500, "{n} pixels on the patch");
+}
+
+/// `interp = "affine"` interpolates (u,v) linearly on the screen (the slides' "Uh oh"): on a quad receding
+/// from the eye the default perspective-correct (u,v) match the ray-plane intersection, the affine ones are
+/// measurably off, and most where the two triangles meet along the diagonal.
+#[test]
+fn affine_interpolation_is_off_the_ray_and_perspective_is_not() {
+    let dir = scratch_dir("affine");
+    let tex = tiles();
+    // The floor y = -0.5 from z = 1 to z = -9: u along +x, v away from the eye.
+    let (p00, e1, e2) = (DVec3::new(-1.0, -0.5, 1.0), DVec3::new(2.0, 0.0, 0.0), DVec3::new(0.0, 0.0, -10.0));
+    let object = |interp: &str| {
+        format!(
+            "shape = \"patch\"\ncorners = [[-1.0, -0.5, 1.0], [1.0, -0.5, 1.0], [1.0, -0.5, -9.0], [-1.0, -0.5, -9.0]]\n\
+             interp = \"{interp}\"\nmaterial = {{ texture = {{ path = \"{tex}\" }} }}"
+        )
+    };
+    let (w, h) = (64, 48);
+    let camera = common::RefCamera::perspective([0.0, 0.6, 3.0], [0.0; 3], [0.0, 1.0, 0.0], 40.0, w, h);
+    let error = |interp: &str| {
+        let frame = render_all_aovs(&scene(&object(interp)), &dir, w, h, 1);
+        let uv = frame.uv.as_ref().unwrap();
+        let mut worst: f64 = 0.0;
+        for j in 0..h {
+            for i in 0..w {
+                let (o, d) = camera.pixel_ray(i, j);
+                let Some(t) = common::ray_plane(o, d, p00, DVec3::Y) else { continue };
+                let (u, v) = common::parallelogram_uv(o + t * d, p00, e1, e2);
+                if !(0.02..0.98).contains(&u) || !(0.02..0.98).contains(&v) || !uv[j * w + i][0].is_finite() {
+                    continue;
+                }
+                let got = uv[j * w + i];
+                worst = worst.max((got[0] as f64 - u).abs().max((got[1] as f64 - v).abs()));
+            }
+        }
+        worst
+    };
+    let (perspective, affine) = (error("perspective"), error("affine"));
+    assert!(perspective < 2e-3, "perspective-correct (u,v) off by {perspective}");
+    assert!(affine > 0.03, "affine (u,v) off by only {affine}");
 }

@@ -84,6 +84,8 @@ pub struct Instance {
     pub object: u32,
     /// Open surfaces are lit from whichever side faces the eye; closed ones have their back faces culled.
     pub two_sided: bool,
+    /// (u,v) interpolated linearly on the screen (a parametric surface's `interp = "affine"`).
+    pub affine: bool,
 }
 
 impl Instance {
@@ -95,6 +97,7 @@ impl Instance {
         world_to_camera: Affine3A,
         material: usize,
         object: u32,
+        affine: bool,
     ) -> Vec<Instance> {
         let normal_matrix = Mat3::from(object_to_world.matrix3).inverse().transpose();
         let object_to_camera = world_to_camera * object_to_world;
@@ -107,6 +110,7 @@ impl Instance {
             material,
             object,
             two_sided,
+            affine,
         };
         match shape {
             Shape::Mesh(parts) => {

@@ -179,6 +179,7 @@ const SHAPE_FIELDS: &[&str] = &[
     "material",
     "file",
     "two_sided",
+    "interp",
     "radius",
     "height",
     "major_radius",
@@ -200,8 +201,9 @@ fn parse_object(path: &str, v: &Value, base: &Path, materials: &mut Vec<Material
     if kind == "mesh" {
         f.only_of_kind(&SHAPE_FIELDS[3..], &["file", "two_sided"], "shape \"mesh\"")?;
         let shape = parse_mesh(&f, base, materials)?;
-        return Ok(Object { shape, transform, material: materials.len() - 1 });
+        return Ok(Object { shape, transform, material: materials.len() - 1, affine: false });
     }
+    let affine = f.choice("interp", false, &[("perspective", false), ("affine", true)])?;
     if let Some(key) = ["file", "two_sided"].into_iter().find(|k| f.get(k).is_some()) {
         return Err(Error::scene(f.at(key), "only for shape = \"mesh\""));
     }
@@ -221,7 +223,7 @@ fn parse_object(path: &str, v: &Value, base: &Path, materials: &mut Vec<Material
             ))
         }
     };
-    f.only_of_kind(&SHAPE_FIELDS[3..], allowed, &format!("shape \"{kind}\""))?;
+    f.only_of_kind(&SHAPE_FIELDS[6..], allowed, &format!("shape \"{kind}\""))?;
     let len = |key: &str, default: f32| f.number_where(key, Some(default), positive, "a positive length");
     let shape = match kind {
         "sphere" => Shape::Surface(Surface::Sphere { radius: len("radius", 1.0)? }),
@@ -260,7 +262,7 @@ fn parse_object(path: &str, v: &Value, base: &Path, materials: &mut Vec<Material
         quad_mapped(&mut material, *corners, &uv_list(&f.at("uv_corners"), uv, 4)?);
     }
     materials.push(material);
-    Ok(Object { shape, transform, material: materials.len() - 1 })
+    Ok(Object { shape, transform, material: materials.len() - 1, affine })
 }
 
 /// A patch's `uv_corners`: every texture the material reads through the patch's own (u,v) reads instead

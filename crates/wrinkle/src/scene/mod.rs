@@ -34,6 +34,8 @@ pub struct Object {
     pub transform: Transform,
     /// Index into `Scene::materials`.
     pub material: usize,
+    /// (u,v) interpolated linearly on the screen, not perspective-correctly (`interp = "affine"`).
+    pub affine: bool,
 }
 
 pub struct Scene {
