@@ -64,7 +64,7 @@ impl Mapping {
     /// `apply` on eight lanes, and the coordinates before the uv transform (what the uv AOV shows).
     #[inline(always)]
     pub fn apply8<'a>(&self, ctx: &LookupContext8<'a>) -> (LookupContext8<'a>, (F8, F8)) {
-        if self.projection != Projection::Uv {
+        if !matches!(self.projection, Projection::Uv) {
             return self.projected8(ctx);
         }
         let t = &self.transform;
@@ -132,7 +132,7 @@ impl Mapping {
     /// columns; `None` for projections from the point.
     #[inline]
     pub fn constant_jacobian(&self) -> Option<[Vec2; 2]> {
-        (self.projection == Projection::Uv).then(|| self.transform.linear())
+        matches!(self.projection, Projection::Uv).then(|| self.transform.linear())
     }
 }
 

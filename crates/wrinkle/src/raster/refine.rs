@@ -6,6 +6,7 @@
 //! the one already evaluated (what that leaves out is below f32 precision); longer steps evaluate it again.
 
 use super::camera::{Camera, Projection};
+use super::setup::ScreenTriangle;
 use crate::geometry::frame_lanes::Frame8;
 use crate::geometry::Surface;
 use crate::lanes::{CmpLt, F8, LANES, V3};
@@ -93,6 +94,32 @@ fn project_derivative8(camera: &Camera, p: V3, d: V3) -> (F8, F8) {
 
 /// The largest step, as a fraction of a tessellation segment, taken by Taylor expansion of the frame.
 const TAYLOR_STEP: f32 = 0.05;
+
+/// (u,v) interpolated linearly on the screen across each lane's triangle instead of perspective-correctly
+/// (the course's "Uh oh"): the triangle's corners, P at their (u,v) projected onto the screen, give the
+/// sample's screen barycentrics. Lane by lane: it serves a comparison, not speed, and keeps the screen
+/// triangles free of anything only it would read.
+pub fn affine_uv8(
+    camera: &Camera,
+    surface: &Surface,
+    object_to_camera: &Affine3A,
+    tris: &[&ScreenTriangle; LANES],
+    screen: (F8, F8),
+) -> (F8, F8) {
+    let (sx, sy) = (screen.0.as_array_ref(), screen.1.as_array_ref());
+    let uv: [Vec2; LANES] = std::array::from_fn(|i| {
+        let corners = tris[i].uv;
+        let at = corners.map(|c| camera.project(object_to_camera.transform_point3(surface.position(c.x, c.y))).0);
+        let (e1, e2, p) = (at[1] - at[0], at[2] - at[0], Vec2::new(sx[i], sy[i]) - at[0]);
+        let det = e1.perp_dot(e2);
+        if det == 0.0 {
+            return corners[0];
+        }
+        let (l1, l2) = (p.perp_dot(e2) / det, e1.perp_dot(p) / det);
+        corners[0] + (corners[1] - corners[0]) * l1 + (corners[2] - corners[0]) * l2
+    });
+    (F8::new(uv.map(|t| t.x)), F8::new(uv.map(|t| t.y)))
+}
 
 #[cfg(test)]
 mod tests {

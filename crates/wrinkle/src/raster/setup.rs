@@ -71,9 +71,6 @@ pub struct ScreenTriangle {
     pub b1: Plane,
     pub b2: Plane,
     pub uv: [Vec2; 3],
-    /// 1/w at the three vertices (1 for orthographic views): what turns the perspective-correct
-    /// barycentrics back into screen-affine ones.
-    pub q: [f32; 3],
     /// The surface (one parametric surface of one object) the triangle belongs to.
     pub surface: u32,
     /// The index within its object of the triangle it was set up from (clipped pieces share it).
@@ -109,21 +106,6 @@ pub fn interpolate8(tris: &[&ScreenTriangle; LANES], x: F8, y: F8) -> Interpolat
     let (ddx, ddy) = (along(db1x, db2x), along(db1y, db2y));
     let uv = (uv0.0 + b1 * e1.0 + b2 * e2.0, uv0.1 + b1 * e1.1 + b2 * e2.1);
     Interpolated8 { bary: [b1, b2], uv, duv: [ddx.0, ddx.1, ddy.0, ddy.1] }
-}
-
-/// (u,v) interpolated linearly in screen space instead of perspective-correctly (the course's "Uh oh"): the
-/// screen barycentrics are the perspective-correct ones `bary` divided by each vertex's 1/w, made to sum to 1.
-#[inline]
-pub fn affine_uv8(tris: &[&ScreenTriangle; LANES], bary: [F8; 2]) -> (F8, F8) {
-    let q = |k: usize| gather8(tris, |t| t.q[k]);
-    let [b1, b2] = bary;
-    let (l0, l1, l2) = ((F8::ONE - b1 - b2) / q(0), b1 / q(1), b2 / q(2));
-    let inv = F8::ONE / (l0 + l1 + l2);
-    let at = |c: fn(Vec2) -> f32| {
-        let v = |k: usize| gather8(tris, |t| c(t.uv[k]));
-        (v(0) * l0 + v(1) * l1 + v(2) * l2) * inv
-    };
-    (at(|p| p.x), at(|p| p.y))
 }
 
 /// One number of each lane's triangle, as lanes.
@@ -276,7 +258,6 @@ impl<'a> TriangleSetup<'a> {
             b1: basis.plane([0.0, q[1], 0.0]),
             b2: basis.plane([0.0, 0.0, q[2]]),
             uv: order.map(|k| tri[k].clip.uv),
-            q: order.map(|k| tri[k].q),
             surface: id.surface,
             triangle: id.triangle,
         });

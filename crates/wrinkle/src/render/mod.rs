@@ -11,8 +11,8 @@ use crate::geometry::{Instance, Primitive, TriangleMesh};
 use crate::lanes::{F8, LANES};
 use crate::light::Light;
 use crate::procedural::hypertexture::Hypertexture;
-use crate::raster::refine::refine_uv8;
-use crate::raster::setup::{affine_uv8, ProjectedVertex};
+use crate::raster::refine::{affine_uv8, refine_uv8};
+use crate::raster::setup::ProjectedVertex;
 use crate::raster::visibility::EMPTY;
 use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
 use crate::scene::Scene;
@@ -429,13 +429,13 @@ impl TileJob<'_> {
             Primitive::Parametric(surface) => {
                 let [dudx, dvdx, dudy, dvdy] = at.duv.map(|d| d * F8::splat(self.sample_cell));
                 let max_step = self.max_steps[packet.surface as usize];
-                parametric = if inst.affine {
-                    // The surface where the screen-affine (u,v) name it: off the sample's ray.
-                    let uv = affine_uv8(&tris, at.bary);
-                    (uv, surface.frame8(uv.0, uv.1))
+                // Affine (u,v) name the surface off the sample's ray: no step moves them onto it.
+                let (uv, max_step) = if inst.affine {
+                    (affine_uv8(self.camera, surface, &inst.object_to_camera, &tris, (sx, sy)), Vec2::ZERO)
                 } else {
-                    refine_uv8(self.camera, surface, &inst.object_to_camera, at.uv, (sx, sy), max_step)
+                    (at.uv, max_step)
                 };
+                parametric = refine_uv8(self.camera, surface, &inst.object_to_camera, uv, (sx, sy), max_step);
                 let footprint = Footprint8 { dudx, dvdx, dudy, dvdy };
                 SurfaceSamples8 { frame: &parametric.1, uv: parametric.0, footprint, triangles, mesh: None }
             }
