@@ -71,9 +71,18 @@ impl TriangleMesh {
         self.normals = sum.into_iter().map(|n| n.try_normalize().unwrap_or(Vec3::Z)).collect();
     }
 
+    /// The normals a loader needs: computed from the faces where the file has none, else `repair_normals`.
+    pub fn complete_normals(&mut self) {
+        if self.normals.is_empty() {
+            self.compute_normals();
+        } else {
+            self.repair_normals();
+        }
+    }
+
     /// Replaces non-unit and non-finite normals from a file: they are normalised, and zero or NaN ones
     /// are recomputed from the faces.
-    pub fn repair_normals(&mut self) {
+    fn repair_normals(&mut self) {
         if self.normals.iter().any(|n| n.try_normalize().is_none()) {
             let given = std::mem::take(&mut self.normals);
             self.compute_normals();

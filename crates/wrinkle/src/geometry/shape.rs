@@ -101,11 +101,12 @@ impl Instance {
     ) -> Vec<Instance> {
         let normal_matrix = Mat3::from(object_to_world.matrix3).inverse().transpose();
         let object_to_camera = world_to_camera * object_to_world;
+        let camera_to_object = object_to_camera.inverse();
         let place = |primitive: Primitive, material: usize, two_sided: bool| Instance {
             primitive,
             object_to_world,
             object_to_camera,
-            camera_to_object: object_to_camera.inverse(),
+            camera_to_object,
             normal_matrix,
             material,
             object,

@@ -47,15 +47,12 @@ impl Mapping {
     #[inline]
     pub fn apply_with_jacobian(&self, ctx: &LookupContext) -> (LookupContext, [Vec2; 2]) {
         let t = &self.transform;
-        let (st, footprint, jacobian) = match self.projection {
-            Projection::Uv => {
-                return (
-                    LookupContext { uv: t.point(ctx.uv), footprint: t.footprint(&ctx.footprint), ..*ctx },
-                    t.linear(),
-                )
-            }
-            _ => self.projected(ctx),
-        };
+        if matches!(self.projection, Projection::Uv) {
+            let mapped = LookupContext { uv: t.point(ctx.uv), footprint: t.footprint(&ctx.footprint), ..*ctx };
+            return (mapped, t.linear());
+        }
+        let sample = self.at_point(ctx);
+        let (st, footprint, jacobian) = (sample.st(), sample.footprint(), sample.jacobian());
         let [a, b] = t.linear();
         let jacobian = jacobian.map(|c| a * c.x + b * c.y);
         (LookupContext { uv: t.point(st), footprint: t.footprint(&footprint), ..*ctx }, jacobian)
@@ -78,9 +75,10 @@ impl Mapping {
         let t = &self.transform;
         let lanes: [(Vec2, Footprint, Vec2); 8] = std::array::from_fn(|i| {
             let c = ctx.lane(i);
-            let (st, fp, _) = self.projected(&c);
-            let mapped = t.point(st);
-            (mapped, t.footprint(&fp), st)
+            // Colour lookups need no Jacobian: only the coordinates and their footprint.
+            let sample = self.at_point(&c);
+            let st = sample.st();
+            (t.point(st), t.footprint(&sample.footprint()), st)
         });
         let lane = |f: fn(&(Vec2, Footprint, Vec2)) -> f32| F8::new(lanes.map(|l| f(&l)));
         let footprint = Footprint8::from_lanes(&lanes.map(|l| l.1));
@@ -88,44 +86,12 @@ impl Mapping {
         (mapped, (lane(|l| l.2.x), lane(|l| l.2.y)))
     }
 
-    /// (s,t) of a projection before the uv transform, its footprint and its Jacobian along u and v.
-    fn projected(&self, ctx: &LookupContext) -> (Vec2, Footprint, [Vec2; 2]) {
-        let p = &self.projection;
+    /// A projection from the point evaluated at the sample of `ctx`.
+    fn at_point<'a>(&'a self, ctx: &'a LookupContext) -> AtPoint<'a> {
         let eye = ctx.object_to_eye.inverse().transform_point3(Vec3::ZERO);
         let n = if ctx.n.length_squared() > 0.0 { ctx.n } else { Vec3::Z };
         let at = projection::point(ctx.p, n, eye, &self.to_mapping, &ctx.object_to_eye);
-        let choice = p.choose(&at);
-        let st = p.coords(&at, &choice);
-        // The change of (s,t) across a step dp of the point, as a difference about it.
-        let along = |dp: Vec3| -> Vec2 {
-            let moved = |k: f32| {
-                let d = dp * k;
-                let q = Point {
-                    q: at.q + self.to_mapping.transform_vector3(d),
-                    q_eye: at.q_eye + ctx.object_to_eye.transform_vector3(d),
-                    ..at
-                };
-                p.coords(&q, &choice)
-            };
-            let mut d = moved(0.5) - moved(-0.5);
-            if p.wraps() {
-                d.x -= d.x.round();
-            }
-            d
-        };
-        let (dx, dy) = (along(ctx.dpdx), along(ctx.dpdy));
-        let footprint = Footprint { dudx: dx.x, dvdx: dx.y, dudy: dy.x, dvdy: dy.y };
-        // Along u and v by a step about as long as the pixel's (or a small one where there is no pixel).
-        let reach = ctx.dpdx.length().max(ctx.dpdy.length()).max(1e-4 * ctx.p.length().max(1.0));
-        let column = |t: Vec3| {
-            let len = t.length();
-            if len == 0.0 {
-                return Vec2::ZERO;
-            }
-            let h = reach / len;
-            along(t * h) / h
-        };
-        (st, footprint, [column(ctx.dpdu), column(ctx.dpdv)])
+        AtPoint { mapping: self, ctx, choice: self.projection.choose(&at), at }
     }
 
     /// d(s,t)/du and d(s,t)/dv where they are the same everywhere (the uv projection): the uv transform's
@@ -133,6 +99,63 @@ impl Mapping {
     #[inline]
     pub fn constant_jacobian(&self) -> Option<[Vec2; 2]> {
         matches!(self.projection, Projection::Uv).then(|| self.transform.linear())
+    }
+}
+
+/// A projection from the point at one sample: its coordinates, and their change across steps of the point
+/// taken as a difference about it (the discrete choices held fixed, an angle's seam taken modulo one turn).
+struct AtPoint<'a> {
+    mapping: &'a Mapping,
+    ctx: &'a LookupContext,
+    at: Point,
+    choice: projection::Choice,
+}
+
+impl AtPoint<'_> {
+    /// (s,t) before the uv transform.
+    fn st(&self) -> Vec2 {
+        self.mapping.projection.coords(&self.at, &self.choice)
+    }
+
+    /// The change of (s,t) across the step `dp` of the point.
+    fn along(&self, dp: Vec3) -> Vec2 {
+        let (m, ctx, at) = (self.mapping, self.ctx, &self.at);
+        let moved = |k: f32| {
+            let d = dp * k;
+            let q = Point {
+                q: at.q + m.to_mapping.transform_vector3(d),
+                q_eye: at.q_eye + ctx.object_to_eye.transform_vector3(d),
+                ..*at
+            };
+            m.projection.coords(&q, &self.choice)
+        };
+        let mut d = moved(0.5) - moved(-0.5);
+        if m.projection.wraps() {
+            d.x -= d.x.round();
+        }
+        d
+    }
+
+    /// The footprint: the change across one pixel step in x and in y.
+    fn footprint(&self) -> Footprint {
+        let (dx, dy) = (self.along(self.ctx.dpdx), self.along(self.ctx.dpdy));
+        Footprint { dudx: dx.x, dvdx: dx.y, dudy: dy.x, dvdy: dy.y }
+    }
+
+    /// d(s,t)/du and d(s,t)/dv, by steps along Pu and Pv about as long as the pixel's (or small ones where
+    /// there is no pixel).
+    fn jacobian(&self) -> [Vec2; 2] {
+        let ctx = self.ctx;
+        let reach = ctx.dpdx.length().max(ctx.dpdy.length()).max(1e-4 * ctx.p.length().max(1.0));
+        let column = |t: Vec3| {
+            let len = t.length();
+            if len == 0.0 {
+                return Vec2::ZERO;
+            }
+            let h = reach / len;
+            self.along(t * h) / h
+        };
+        [column(ctx.dpdu), column(ctx.dpdv)]
     }
 }
 

@@ -69,11 +69,7 @@ pub fn load(path: &Path) -> Result<Vec<ModelPart>> {
                 triangles,
             };
             m.validate().map_err(|e| fail(format!("{what} {e}")))?;
-            if m.normals.is_empty() {
-                m.compute_normals();
-            } else {
-                m.repair_normals();
-            }
+            m.complete_normals();
             let gm = primitive.material();
             let material = material(&gm, &mut textures).map_err(|e| fail(format!("{what}: {e}")))?;
             let transform = Affine3A::from_mat4(world);

@@ -53,11 +53,7 @@ pub fn load(path: &Path) -> Result<Vec<ModelPart>> {
             triangles: m.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect(),
         };
         mesh.validate().map_err(|e| Error::read(path, format!("object \"{}\" {e}", model.name)))?;
-        if mesh.normals.is_empty() {
-            mesh.compute_normals();
-        } else {
-            mesh.repair_normals();
-        }
+        mesh.complete_normals();
         let material = match m.material_id {
             Some(k) => {
                 let mtl = materials.get(k).ok_or_else(|| {
@@ -118,18 +114,19 @@ impl ObjMaterial {
 
 fn material(m: &tobj::Material, dir: &Path) -> Result<ObjMaterial> {
     let mean = |c: [f32; 3]| (c[0] + c[1] + c[2]) / 3.0;
-    let map = |spec: &Option<String>, srgb: bool| -> Result<Option<(MappedTexture, f32)>> {
+    let parse = |spec: &str| MapSpec::parse(spec, dir).map_err(|e| Error::read(dir.join(spec), e));
+    let map = |spec: &Option<String>, srgb: bool| -> Result<Option<MappedTexture>> {
         let Some(spec) = spec else { return Ok(None) };
-        let map = MapSpec::parse(spec, dir).map_err(|e| Error::read(dir.join(spec), e))?;
+        let map = parse(spec)?;
         let wrap = if map.clamp { Wrap::Clamp } else { Wrap::Repeat };
         let options = TextureOptions { wrap: [wrap; 2], ..TextureOptions::default() };
         let texture = Arc::new(load_texture(&map.file, srgb, options)?);
-        Ok(Some((MappedTexture { texture, mapping: Mapping::uv(map.transform) }, map.bump_multiplier)))
+        Ok(Some(MappedTexture { texture, mapping: Mapping::uv(map.transform) }))
     };
     let bump = match &m.normal_texture {
         // tobj reads both bump and map_Bump into `normal_texture`: a height map.
         Some(spec) => {
-            let map = MapSpec::parse(spec, dir).map_err(|e| Error::read(dir.join(spec), e))?;
+            let map = parse(spec)?;
             let table = Arc::new(BumpTable::new(&io::load_grey(&map.file)?));
             Some((table, 0.01 * map.bump_multiplier, map.transform))
         }
@@ -140,10 +137,10 @@ fn material(m: &tobj::Material, dir: &Path) -> Result<ObjMaterial> {
         specular: m.specular.map_or(0.0, mean),
         // Ns runs 0..1000; Blinn-Phong needs a positive exponent.
         shininess: m.shininess.map_or(20.0, |n| n.max(1.0)),
-        texture: map(&m.diffuse_texture, true)?.map(|(t, _)| t),
-        specular_map: map(&m.specular_texture, false)?.map(|(t, _)| t),
+        texture: map(&m.diffuse_texture, true)?,
+        specular_map: map(&m.specular_texture, false)?,
         bump,
-        normal_map: map(&m.unknown_param.get("norm").cloned(), false)?.map(|(t, _)| t),
+        normal_map: map(&m.unknown_param.get("norm").cloned(), false)?,
     })
 }
 
