@@ -13,7 +13,6 @@ use wrinkle::image::io::{load_grey, load_rgba8};
 use wrinkle::light::Light;
 use wrinkle::mapping::{MappedTexture, Mapping};
 use wrinkle::raster::Projection;
-use wrinkle::render::{MAX_PIXELS, MAX_SIDE};
 use wrinkle::scene::{CameraDesc, Object};
 use wrinkle::shade::{Material, Phong};
 use wrinkle::texture::reconstruct::Kernel;
@@ -133,18 +132,13 @@ pub fn run(args: &BumpArgs) -> Result<()> {
     crate::set_threads(args.threads)?;
     let heights = load_grey(&args.input)?;
     let (w, h) = (heights.width, heights.height);
-    if w > MAX_SIDE || h > MAX_SIDE || w * h > MAX_PIXELS {
-        return Err(Error::read(
-            &args.input,
-            format!("image is {w}x{h}; the renderer draws at most {MAX_SIDE} per side and {MAX_PIXELS} pixels"),
-        ));
-    }
+    let options = RenderOptions { width: w, height: h, ..RenderOptions::default() };
+    options.validate().map_err(|e| Error::read(&args.input, format!("image is {w}x{h}, too large to render: {e}")))?;
     let texture = match &args.texture {
         Some(path) => Some(FilteredTexture::from_rgba8(&load_rgba8(path)?, true, TextureOptions::default())),
         None => None,
     };
     let scene = scene(args, BumpTable::new(&heights), texture)?;
-    let options = RenderOptions { width: w, height: h, ..RenderOptions::default() };
     let frame = render(&scene, &options)?;
     write_outputs(&args.output, &frame)
 }

@@ -98,6 +98,7 @@ impl BumpgenArgs {
 
 /// Generate the table and write it to `args.output`.
 pub fn run(args: &BumpgenArgs) -> wrinkle::Result<()> {
+    crate::output::require_extension(&args.output, &["png"])?;
     let table = args.generator().generate(args.size)?;
     wrinkle::image::io::write_png_grey16(&args.output, &table)?;
     println!("wrote {} ({}x{}, 16-bit grey)", args.output.display(), table.width, table.height);

@@ -63,10 +63,10 @@ pub fn run(args: &EmbossArgs) -> Result<()> {
         d => return Err(Error::Invalid(format!("--depth must be 8 or 16, got {d}"))),
     };
     wrinkle::image::stream::OutputFormat::of(&args.output)?;
-    let heights = ImageRows::open(&args.input, args.stream.max_side)?;
+    let heights = ImageRows::open(&args.input)?;
     let (w, h) = (heights.width(), heights.height());
     let texture = match &args.texture {
-        Some(path) => Some(open_texture(path, w, h, args.resample, args.stream.max_side)?),
+        Some(path) => Some(open_texture(path, w, h, args.resample)?),
         None => None,
     };
     let rows = RowFormat { channels: if texture.is_some() { 3 } else { 1 }, sixteen };
@@ -86,8 +86,8 @@ pub fn run(args: &EmbossArgs) -> Result<()> {
 
 /// The texture's rows at the height image's size: streamed when the sizes agree, else decoded whole and
 /// resampled (or refused with `--resample none`).
-pub fn open_texture(path: &Path, w: usize, h: usize, resample: Resample, max_side: usize) -> Result<ImageRows> {
-    let mut texture = ImageRows::open(path, max_side)?;
+pub fn open_texture(path: &Path, w: usize, h: usize, resample: Resample) -> Result<ImageRows> {
+    let mut texture = ImageRows::open(path)?;
     let (tw, th) = (texture.width(), texture.height());
     if (tw, th) == (w, h) {
         return Ok(texture);

@@ -149,9 +149,7 @@ fn psnr(rmse: f64) -> f64 {
 
 pub fn run(args: &FiltersArgs) -> Result<()> {
     crate::set_threads(args.threads)?;
-    if args.output.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() != Some("png") {
-        return Err(Error::Invalid(format!("{}: the sheet must end in .png", args.output.display())));
-    }
+    crate::output::require_extension(&args.output, &["png"])?;
     if args.columns == 0 || args.columns > 64 {
         return Err(Error::Invalid(format!("--columns must be between 1 and 64, got {}", args.columns)));
     }

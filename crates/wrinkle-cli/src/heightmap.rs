@@ -64,7 +64,7 @@ pub fn run(args: &HeightmapArgs) -> Result<()> {
         d => return Err(Error::Invalid(format!("--depth must be 8 or 16, got {d}"))),
     };
     OutputFormat::of(&args.output)?;
-    let mut normals = ImageRows::open(&args.input, args.stream.max_side)?;
+    let mut normals = ImageRows::open(&args.input)?;
     let (w, h) = (normals.width(), normals.height());
     let (fw, fh) = field_size(w, h, args.wrap);
     if fw * fh * BYTES_PER_FIELD_PIXEL > MAX_FIELD_BYTES {

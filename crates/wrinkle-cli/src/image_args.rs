@@ -8,7 +8,7 @@ use std::time::Instant;
 use wrinkle::image::resample::Filter;
 use wrinkle::image::stream::{write_rows, PngCompression, RowFormat};
 use wrinkle::image::strips::StripStats;
-use wrinkle::{Error, Result};
+use wrinkle::Result;
 
 /// Images with at least this many pixels show a progress bar.
 const LONG_IMAGE_PIXELS: usize = 16 << 20;
@@ -51,9 +51,6 @@ pub struct StreamArgs {
     /// PNG encoding effort: fast is several times quicker than best, for files some tens of percent larger
     #[arg(long, value_enum, default_value_t = Compression::Fast)]
     pub compression: Compression,
-    /// Largest accepted width or height of an input image, in pixels
-    #[arg(long, default_value_t = 32768)]
-    pub max_side: usize,
     /// Worker threads (default: all cores)
     #[arg(long)]
     pub threads: Option<usize>,
@@ -65,9 +62,6 @@ pub struct StreamArgs {
 impl StreamArgs {
     /// Checks the options and sets up the worker pool.
     pub fn prepare(&self) -> Result<PngCompression> {
-        if self.max_side == 0 || self.max_side > 1 << 20 {
-            return Err(Error::Invalid(format!("--max-side must be between 1 and 1048576, got {}", self.max_side)));
-        }
         crate::set_threads(self.threads)?;
         Ok(match self.compression {
             Compression::Fast => PngCompression::Fast,

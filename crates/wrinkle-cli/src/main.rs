@@ -5,6 +5,7 @@ mod bench_noise;
 mod bench_texture;
 mod bump_image;
 mod bumpgen;
+mod cpu;
 mod emboss;
 mod filters;
 mod heightmap;
@@ -26,6 +27,11 @@ use std::process::ExitCode;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Raise (or lower) a limit: memory=SIZE (default 3/4 of the machine's memory), image-side=N (32768),
+    /// image-pixels=N (268435456), frame-side=N (16384), frame-pixels=N (67108864), triangles=N (268435456).
+    /// Sizes take K, M, G, T; counts k, M, G. docs/reliability.md lists them.
+    #[arg(long = "limit", global = true, value_name = "NAME=VALUE")]
+    limits: Vec<String>,
 }
 
 #[derive(Subcommand)]
@@ -57,6 +63,30 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    // First, before any code built for x86-64-v3 runs: a clear message instead of an illegal instruction.
+    if !cpu::supported() {
+        cpu::explain_and_exit();
+    }
+    remove_temporaries_on_signals();
+    run_cli()
+}
+
+/// Ctrl-C, SIGTERM and SIGHUP end the process as they would, but first remove the temporary files of
+/// outputs being written, so that an interrupted job leaves nothing behind.
+fn remove_temporaries_on_signals() {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) else {
+        return;
+    };
+    std::thread::spawn(move || {
+        if let Some(signal) = signals.forever().next() {
+            wrinkle::image::output::remove_temporaries();
+            std::process::exit(128 + signal);
+        }
+    });
+}
+
+fn run_cli() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) if !e.use_stderr() => {
@@ -76,7 +106,7 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let result = match &cli.command {
+    let result = cli.limits.iter().try_for_each(|arg| wrinkle::limits::set_from_arg(arg)).and_then(|()| match &cli.command {
         Command::Render(a) => render::run(a),
         Command::Bumpgen(a) => bumpgen::run(a),
         Command::Bench(a) => bench::run(a),
@@ -89,7 +119,7 @@ fn main() -> ExitCode {
         Command::BenchTexture(a) => bench_texture::run(a),
         Command::BenchNoise(a) => bench_noise::run(a),
         Command::Texture(a) => texture::run(a),
-    };
+    });
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

@@ -6,11 +6,13 @@ use glam::Vec4;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use wrinkle::image::color::SrgbEncoder;
+use crate::output::require_extension;
 use wrinkle::image::io;
+use wrinkle::image::output::OutputSet;
 use wrinkle::texture::mip::build_levels;
 use wrinkle::texture::texel::Plane;
 use wrinkle::texture::{MipFilter, Wrap};
-use wrinkle::{Error, Result};
+use wrinkle::Result;
 
 #[derive(Args, Debug)]
 #[command(
@@ -37,10 +39,7 @@ pub struct MipmapArgs {
 }
 
 pub fn run(args: &MipmapArgs) -> Result<()> {
-    let is_png = args.output.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("png"));
-    if !is_png {
-        return Err(Error::Invalid(format!("{}: output must end in .png", args.output.display())));
-    }
+    require_extension(&args.output, &["png"])?;
     let filter = MipFilter::parse(&args.filter).expect("clap checked the name");
     let wrap = Wrap::parse(&args.wrap).expect("clap checked the name");
     let image = io::load_rgba_linear(&args.input, !args.linear)?;
@@ -50,10 +49,13 @@ pub fn run(args: &MipmapArgs) -> Result<()> {
     let ms = t.elapsed().as_secs_f64() * 1e3;
     let encode = Encoder { srgb: !args.linear, table: SrgbEncoder::new() };
     if args.levels {
+        let mut set = OutputSet::new();
         for (k, level) in levels.iter().enumerate() {
-            let path = numbered(&args.output, k);
-            io::write_png_rgba8(&path, level.width, level.height, &encode.plane(level))?;
+            set.stage(&numbered(&args.output, k), |path| {
+                io::write_png_rgba8(path, level.width, level.height, &encode.plane(level))
+            })?;
         }
+        set.commit()?;
     } else {
         let (w, h, bytes) = atlas(&levels, &encode);
         io::write_png_rgba8(&args.output, w, h, &bytes)?;

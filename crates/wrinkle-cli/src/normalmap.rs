@@ -88,11 +88,11 @@ pub fn run(args: &NormalmapArgs) -> Result<()> {
         d => return Err(Error::Invalid(format!("--depth must be 8 or 16, got {d}"))),
     };
     OutputFormat::of(&args.output)?;
-    let heights = ImageRows::open(&args.input, args.stream.max_side)?;
+    let heights = ImageRows::open(&args.input)?;
     let (w, h) = (heights.width(), heights.height());
     let (edges, last) = if args.wrap {
         // The first row's upper neighbour is the last row: one extra decoding pass finds it.
-        (Edges::Wrap, Some(last_row(ImageRows::open(&args.input, args.stream.max_side)?, 1.0)?))
+        (Edges::Wrap, Some(last_row(ImageRows::open(&args.input)?, 1.0)?))
     } else {
         (Edges::Clamp, None)
     };

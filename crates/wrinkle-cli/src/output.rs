@@ -2,6 +2,7 @@
 
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};
+use wrinkle::image::output::OutputSet;
 use wrinkle::image::{color::SrgbEncoder, io};
 use wrinkle::{Error, Frame, Result};
 
@@ -13,11 +14,9 @@ pub enum Format {
 }
 
 pub fn format_of(path: &Path) -> Result<Format> {
-    match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
-        Some("png") => Ok(Format::Png),
-        Some("exr") => Ok(Format::Exr),
-        _ => Err(Error::Invalid(format!("{}: output must end in .png or .exr", path.display()))),
-    }
+    require_extension(path, &["png", "exr"])?;
+    let exr = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    Ok(if exr { Format::Exr } else { Format::Png })
 }
 
 /// The frame's linear RGB as 8-bit sRGB bytes.
@@ -96,58 +95,28 @@ pub fn aov_path(out: &Path, name: &str) -> PathBuf {
     out.with_extension(format!("{name}.exr"))
 }
 
-/// A hidden name beside `path` where it is written before it is renamed into place.
-fn staging_path(path: &Path) -> PathBuf {
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    path.with_file_name(format!(".{name}.{}.staged", std::process::id()))
-}
-
-/// Writes the frame and its AOVs as one unit: every file is written under a staging name first and renamed
-/// into place only when all of them are complete, so a failure leaves none of them behind.
+/// Writes the frame and its AOVs as one unit: none of them is placed unless all are written.
 pub fn write_outputs(out: &Path, frame: &Frame) -> Result<()> {
-    let list = outputs(out, frame)?;
-    let mut staged: Vec<(PathBuf, &Path)> = Vec::with_capacity(list.len());
-    let mut result = Ok(());
-    for (path, write) in &list {
-        let tmp = staging_path(path);
-        match write(&tmp) {
-            Ok(()) => staged.push((tmp, path)),
-            Err(e) => {
-                result = Err(with_path(e, path));
-                break;
-            }
-        }
-    }
-    if result.is_ok() {
-        // A folder in the way is the one common reason a rename fails: find it before renaming anything.
-        if let Some((_, path)) = staged.iter().find(|(_, p)| p.is_dir()) {
-            result = Err(Error::write(*path, "a folder of that name is in the way"));
-        }
-    }
-    let mut placed = 0;
-    if result.is_ok() {
-        for (tmp, path) in &staged {
-            if let Err(e) = std::fs::rename(tmp, path) {
-                result = Err(Error::write(*path, e));
-                break;
-            }
-            placed += 1;
-        }
-    }
-    if result.is_err() {
-        // Nothing of this frame stays: neither the staged files nor those already renamed into place.
-        for (k, (tmp, path)) in staged.iter().enumerate() {
-            let _ = std::fs::remove_file(if k < placed { *path } else { tmp.as_path() });
-        }
-    }
-    result
+    let mut set = OutputSet::new();
+    stage_outputs(&mut set, out, frame)?;
+    set.commit()
 }
 
-/// The error of writing a staged file, told of the file the user asked for.
-fn with_path(e: Error, path: &Path) -> Error {
-    match e {
-        Error::Write { message, .. } => Error::Write { path: path.to_path_buf(), message },
-        Error::Invalid(m) => Error::Invalid(m),
-        other => Error::write(path, other),
+/// Writes the frame and its AOVs into `set`, to be placed with the rest of it.
+pub fn stage_outputs(set: &mut OutputSet, out: &Path, frame: &Frame) -> Result<()> {
+    for (path, write) in outputs(out, frame)? {
+        set.stage(&path, write)?;
     }
+    Ok(())
+}
+
+/// `Ok` if `path` ends in one of the `allowed` extensions (any case), else an error naming them: an output
+/// is never written in a format its name does not say.
+pub fn require_extension(path: &Path, allowed: &[&str]) -> Result<()> {
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    if ext.as_deref().is_some_and(|e| allowed.contains(&e)) {
+        return Ok(());
+    }
+    let list: Vec<String> = allowed.iter().map(|e| format!(".{e}")).collect();
+    Err(Error::Invalid(format!("{}: output must end in {}", path.display(), list.join(" or "))))
 }

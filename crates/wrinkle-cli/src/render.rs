@@ -1,6 +1,7 @@
 //! `wrinkle render`: one frame, or a turntable animation of numbered frames.
 
-use crate::output::{format_of, write_outputs};
+use crate::output::{format_of, stage_outputs};
+use wrinkle::image::output::OutputSet;
 use clap::builder::PossibleValuesParser;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -147,6 +148,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         );
         bar
     });
+    // An animation's frames are placed together at the end: a failed frame leaves none of them.
+    let mut set = OutputSet::new();
     for k in 0..args.frames {
         options.turntable_degrees = if args.turntable { 360.0 * k as f32 / args.frames as f32 } else { 0.0 };
         // One long frame (many samples, or ray-marched volumes) gets a bar of its own (bands of tiles); an
@@ -172,7 +175,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         }
         let out = if animated { numbered(&args.output, k) } else { args.output.clone() };
         let t = std::time::Instant::now();
-        write_outputs(&out, &frame)?;
+        stage_outputs(&mut set, &out, &frame)?;
         if args.stats {
             let s = &frame.stats;
             eprintln!(
@@ -190,6 +193,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             b.inc(1);
         }
     }
+    set.commit()?;
     if let Some(b) = bar {
         b.finish();
     }

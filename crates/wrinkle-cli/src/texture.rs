@@ -90,13 +90,7 @@ fn parse_size(s: &str) -> Result<(usize, usize)> {
     let bad = || Error::Invalid(format!("--size: expected WIDTHxHEIGHT such as 512x512, got \"{s}\""));
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
     let (w, h): (usize, usize) = (w.trim().parse().map_err(|_| bad())?, h.trim().parse().map_err(|_| bad())?);
-    if w == 0 || h == 0 || w > io::MAX_SIDE || h > io::MAX_SIDE || w * h > io::MAX_PIXELS {
-        return Err(Error::Invalid(format!(
-            "--size: {w}x{h} is out of range (sides 1 to {}, at most {} pixels)",
-            io::MAX_SIDE,
-            io::MAX_PIXELS
-        )));
-    }
+    io::check_size(w, h).map_err(|m| Error::Invalid(format!("--size: {m}")))?;
     Ok((w, h))
 }
 

@@ -95,7 +95,7 @@ fn emboss_matches_the_formula_and_writes_png_bmp_and_16_bit() {
     // --depth 16: the 8-bit picture is its rounding.
     let deep = s.out("deep.png");
     assert_ok(&wrinkle(&[&["emboss", &png8, "-o", &deep, "--depth", "16"][..], &args].concat()));
-    let rows = ImageRows::open(Path::new(&deep), 1000).unwrap();
+    let rows = ImageRows::open(Path::new(&deep)).unwrap();
     assert!(rows.is_sixteen_bit());
     let g16 = load_grey(Path::new(&deep)).unwrap();
     assert!(g16.pixels.iter().zip(&got).all(|(v, &g)| ((v * 255.0).round() as i32 - g as i32).abs() <= 1));
@@ -195,7 +195,8 @@ fn bad_inputs_give_one_line_and_no_output() {
         &["missing.png", "no such file"],
         &s,
     );
-    assert_one_error(&wrinkle(&["emboss", &good, "-o", &out, "--max-side", "32"]), 2, &["good.png", "limit of 32"], &s);
+    let run = wrinkle(&["emboss", &good, "-o", &out, "--limit", "image-side=32"]);
+    assert_one_error(&run, 2, &["good.png", "32 limit", "--limit image-side=N"], &s);
     assert_one_error(&wrinkle(&["emboss", &good, "-o", &out, "--elevation", "100"]), 2, &["--elevation"], &s);
     assert_one_error(&wrinkle(&["emboss", &good, "-o", &out, "--width", "nan"]), 2, &["--width"], &s);
     assert_one_error(&wrinkle(&["normalmap", &good, "-o", &out, "--strength", "-1"]), 2, &["--strength"], &s);
@@ -231,7 +232,7 @@ fn normal_map_of_a_ramp_and_its_conventions() {
             "--kernel",
             kernel,
         ]));
-        let mut rows = ImageRows::open(Path::new(&out), 100).unwrap();
+        let mut rows = ImageRows::open(Path::new(&out)).unwrap();
         assert!(rows.is_sixteen_bit());
         let mut rgb = vec![0.0; 3 * w];
         for _ in 0..h {
@@ -271,7 +272,7 @@ fn wrap_reads_the_opposite_edge() {
     assert_ok(&wrinkle(&[&["normalmap", &input, "-o", &wrapped, "--wrap"][..], &base].concat()));
     assert_ok(&wrinkle(&[&["normalmap", &input, "-o", &clamped][..], &base].concat()));
     let red = |path: &str, x: usize| {
-        let mut rows = ImageRows::open(Path::new(path), 100).unwrap();
+        let mut rows = ImageRows::open(Path::new(path)).unwrap();
         let mut rgb = vec![0.0; 3 * w];
         rows.read_rgb(&mut rgb).unwrap();
         2.0 * rgb[3 * x] as f64 - 1.0

@@ -9,6 +9,7 @@ pub mod geometry;
 pub mod image;
 pub mod lanes;
 pub mod light;
+pub mod limits;
 pub mod mapping;
 pub mod procedural;
 pub mod raster;

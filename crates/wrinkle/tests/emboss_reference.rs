@@ -181,7 +181,7 @@ fn streamed_strips_equal_the_whole_image() {
     let grey = RowFormat { channels: 1, sixteen: false };
     write_rows(&input, w, h, grey, PngCompression::Fast, |sink| sink(&bytes)).unwrap();
     let e = Emboss::new(135.0, 45.0, 3.0).unwrap();
-    let rows = ImageRows::open(&input, 32768).unwrap();
+    let rows = ImageRows::open(&input).unwrap();
     let kernel = |_: usize, win: Window, _: Option<&[u8]>, s: &mut [f32], out: &mut [u8]| {
         e.shade_row(win, &mut s[..w]);
         to_grey8(&s[..w], out);

@@ -24,7 +24,7 @@ fn write_heights16(path: &std::path::Path, w: usize, h: usize, heights: &[f64]) 
 
 /// The normal map of a PNG height file, streamed: unit normals as f32 triples, row 0 at the top.
 fn normals_of(path: &std::path::Path, map: NormalMap) -> (usize, usize, Vec<[f32; 3]>) {
-    let rows = ImageRows::open(path, 4096).unwrap();
+    let rows = ImageRows::open(path).unwrap();
     let (w, h) = (rows.width(), rows.height());
     let kernel = |_: usize, win: Window, _: Option<&[u8]>, s: &mut [f32], out: &mut [u8]| {
         let (nx, rest) = s.split_at_mut(w);

@@ -5,6 +5,7 @@
 //!
 //! Texture coordinates follow the project's convention, v up: loaders of v-down formats (glTF) flip them.
 
+use crate::limits::Limit;
 use glam::{Affine3A, Mat3, Vec2, Vec3, Vec4};
 
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -21,10 +22,6 @@ pub struct TriangleMesh {
     pub triangles: Vec<[u32; 3]>,
 }
 
-/// The most triangles one mesh may have: four of every vertex index's 2^32 would not fit, and 2^28
-/// triangles (about 25 GB as vertex data) are beyond this machine anyway.
-pub const MAX_TRIANGLES: usize = 1 << 28;
-
 impl TriangleMesh {
     /// Checks what a loader read: at least one triangle, every index in range, finite positions, texture
     /// coordinates and normals matching the vertex count. The message names what is wrong.
@@ -33,8 +30,9 @@ impl TriangleMesh {
         if self.triangles.is_empty() {
             return Err("has no triangles".into());
         }
-        if self.triangles.len() > MAX_TRIANGLES {
-            return Err(format!("has {} triangles, more than the {MAX_TRIANGLES} allowed", self.triangles.len()));
+        let most = Limit::Triangles.count();
+        if self.triangles.len() > most {
+            return Err(format!("has {} triangles, more than the {most} allowed ({})", self.triangles.len(), Limit::Triangles.hint()));
         }
         if let Some((t, tri)) = self.triangles.iter().enumerate().find(|(_, t)| t.iter().any(|&k| k as usize >= n)) {
             return Err(format!("triangle {t} has a vertex index out of range ({tri:?}, {n} vertices)"));

@@ -1,11 +1,10 @@
 //! Reading and writing image files: height maps and colour textures in (PNG, JPEG, BMP, TGA or TIFF),
-//! rendered pictures out as PNG and float data (AOVs) out as OpenEXR. Every output file is written
-//! atomically: to a temporary file beside it, then renamed into place.
+//! rendered pictures out as PNG and float data (AOVs) out as OpenEXR. Every output file is placed by
+//! `output::write_atomic`: whole or not at all.
 
 use std::fs::{self, File};
-use std::io::{self, BufWriter, Cursor, Write};
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::io::{self, BufReader, Cursor};
+use std::path::Path;
 
 use ::image::{DynamicImage, ImageDecoder, ImageError, ImageFormat, ImageReader};
 use exr::prelude::{
@@ -13,14 +12,10 @@ use exr::prelude::{
     WritableImage,
 };
 
+use super::output::write_atomic;
 use super::{GreyImage, Image};
 use crate::error::{Error, Result};
-
-/// The largest width or height accepted when reading or writing an image.
-pub const MAX_SIDE: usize = 32768;
-/// The most pixels an image may have (16384 x 16384), so that a small file claiming a huge size cannot
-/// make a reader allocate many gigabytes.
-pub const MAX_PIXELS: usize = 16384 * 16384;
+use crate::limits::{self, Limit};
 
 pub(crate) const NOT_SUPPORTED: &str = "not a supported image (expected PNG, JPEG, BMP, TGA or TIFF)";
 
@@ -49,7 +44,7 @@ pub fn load_grey(path: &Path) -> Result<GreyImage> {
     if let Some(grey) = load_tiff_grey_f32(path) {
         return grey;
     }
-    let img = decode(path)?;
+    let img = decode(path, 16)?;
     let channels = usize::from(img.color().channel_count());
     let pixels = if let Some(s) = img.as_flat_samples_u8() {
         grey_pixels(s.samples, channels, 255.0)
@@ -67,7 +62,7 @@ pub fn load_grey(path: &Path) -> Result<GreyImage> {
 /// formats as [`load_grey`]. 16-bit samples are rounded to 8 bits, grey is copied to R, G and B,
 /// and alpha is 255 where the file has none.
 pub fn load_rgba8(path: &Path) -> Result<Image<[u8; 4]>> {
-    let rgba = decode(path)?.into_rgba8();
+    let rgba = decode(path, 8)?.into_rgba8();
     let (width, height) = (rgba.width() as usize, rgba.height() as usize);
     let pixels = rgba.pixels().map(|p| p.0).collect();
     Ok(Image { width, height, pixels })
@@ -87,7 +82,12 @@ pub fn load_texels(path: &Path, srgb: bool) -> Result<Texels> {
     if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr")) {
         return load_exr_rgba(path).map(Texels::Linear);
     }
-    let img = decode(path)?;
+    if let Some(grey) = load_tiff_grey_f32(path) {
+        let grey = grey?;
+        let pixels = grey.pixels.iter().map(|&g| [g, g, g, 1.0]).collect();
+        return Ok(Texels::Linear(Image { width: grey.width, height: grey.height, pixels }));
+    }
+    let img = decode(path, 32)?;
     let (width, height) = (img.width() as usize, img.height() as usize);
     let float = matches!(img.color(), ::image::ColorType::Rgb32F | ::image::ColorType::Rgba32F);
     Ok(if float {
@@ -134,14 +134,16 @@ pub fn load_rgba_linear(path: &Path, srgb: bool) -> Result<Image<[f32; 4]>> {
 /// A grey 32-bit float TIFF (what GIMP and Krita write for a float height map), which the image crate
 /// refuses; `None` for any other file, left to the image crate.
 fn load_tiff_grey_f32(path: &Path) -> Option<Result<GreyImage>> {
-    let file = std::fs::File::open(path).ok()?;
-    let mut decoder = tiff::decoder::Decoder::new(std::io::BufReader::new(file)).ok()?;
+    let file = open_input(path).ok()?;
+    let mut decoder = tiff::decoder::Decoder::new(BufReader::new(file)).ok()?;
     if decoder.colortype().ok()? != tiff::ColorType::Gray(32) {
         return None;
     }
     let mut read = || -> std::result::Result<GreyImage, String> {
         let (w, h) = decoder.dimensions().map_err(|e| e.to_string())?;
         check_size(w as usize, h as usize)?;
+        limits::reserve(u64::from(w) * u64::from(h) * 8, || format!("decoding its {w}x{h} pixels"))
+            .map_err(|e| e.to_string())?;
         match decoder.read_image().map_err(|e| format!("malformed TIFF: {e}"))? {
             tiff::decoder::DecodingResult::F32(pixels) if pixels.len() == w as usize * h as usize => {
                 Ok(Image { width: w as usize, height: h as usize, pixels })
@@ -155,7 +157,6 @@ fn load_tiff_grey_f32(path: &Path) -> Option<Result<GreyImage>> {
 /// The grey of an OpenEXR file, as `load_grey` describes it.
 fn load_exr_grey(path: &Path) -> Result<GreyImage> {
     let (width, height, channels) = read_exr_channels(path)?;
-    check_size(width, height).map_err(|m| Error::read(path, m))?;
     let find = |name: &str| channels.iter().find(|(n, _)| n == name).map(|(_, v)| v.clone());
     let mut pixels = match (channels.len(), find("Y").or_else(|| find("Z")), find("R"), find("G"), find("B")) {
         (1, _, _, _, _) => channels[0].1.clone(),
@@ -176,7 +177,6 @@ fn load_exr_grey(path: &Path) -> Result<GreyImage> {
 /// R, G, B (and A when present) of an OpenEXR file; a single channel (Y or any name) is grey.
 fn load_exr_rgba(path: &Path) -> Result<Image<[f32; 4]>> {
     let (width, height, channels) = read_exr_channels(path)?;
-    check_size(width, height).map_err(|m| Error::read(path, m))?;
     let find = |name: &str| channels.iter().find(|(n, _)| n == name).map(|(_, v)| v);
     let (r, g, b) = match (find("R"), find("G"), find("B")) {
         (Some(r), Some(g), Some(b)) => (r, g, b),
@@ -186,19 +186,6 @@ fn load_exr_rgba(path: &Path) -> Result<Image<[f32; 4]>> {
     let a = find("A");
     let pixels = (0..width * height).map(|k| [r[k], g[k], b[k], a.map_or(1.0, |a| a[k])]).collect();
     Ok(Image { width, height, pixels })
-}
-
-/// Writes a file atomically: `write` fills a buffered temporary file `.{name}.{pid}.{n}.tmp`
-/// in the same directory, which is then renamed onto `path`. On any error the temporary file
-/// is removed and `path` is left as it was.
-pub fn write_atomic(path: &Path, write: impl FnOnce(&mut dyn Write) -> Result<()>) -> Result<()> {
-    let tmp = temp_path(path)?;
-    let result = write_file(&tmp, path, write).and_then(|()| fs::rename(&tmp, path).map_err(|e| Error::write(path, e)));
-    if result.is_err() {
-        // The temporary file may not exist (creating it failed); there is nothing else to do.
-        let _ = fs::remove_file(&tmp);
-    }
-    result
 }
 
 /// Writes an 8-bit RGB PNG from `rgb`, 3 bytes per pixel, row 0 at the top.
@@ -268,6 +255,16 @@ fn write_exr_samples(path: &Path, width: usize, height: usize, channels: Vec<(&s
 /// Half-float and integer channels are converted to f32.
 #[allow(clippy::type_complexity)] // the tuple is the documented interface
 pub fn read_exr_channels(path: &Path) -> Result<(usize, usize, Vec<(String, Vec<f32>)>)> {
+    let meta = exr::meta::MetaData::read_from_buffered(BufReader::new(open_input(path)?), false)
+        .map_err(|e| exr_read_error(path, e))?;
+    let header = meta.headers.first().ok_or_else(|| Error::read(path, "not a valid OpenEXR file: it has no layer"))?;
+    let (width, height) = (header.layer_size.width(), header.layer_size.height());
+    check_size(width, height).map_err(|m| Error::read(path, m))?;
+    // Samples are decoded at their stored width, then widened to f32.
+    let bytes_per_pixel: usize = header.channels.list.iter().map(|c| c.sample_type.bytes_per_sample() + 4).sum();
+    limits::reserve((width * height * bytes_per_pixel) as u64, || {
+        format!("{}: decoding its {width}x{height} pixels", path.display())
+    })?;
     let image = exr::prelude::read()
         .no_deep_data()
         .largest_resolution_level()
@@ -282,18 +279,64 @@ pub fn read_exr_channels(path: &Path) -> Result<(usize, usize, Vec<(String, Vec<
     Ok((layer.size.width(), layer.size.height(), channels))
 }
 
-/// Opens and decodes an image file, refusing empty and oversized images before decoding pixels.
-pub(crate) fn decode(path: &Path) -> Result<DynamicImage> {
-    let mut reader = ImageReader::open(path)
-        .and_then(ImageReader::with_guessed_format)
-        .map_err(|e| Error::read(path, open_message(&e)))?;
+/// Opens and decodes an image file, refusing empty, oversized and cut-short images before decoding pixels,
+/// and images whose decoding, with `converted_per_pixel` more bytes per pixel for the caller's conversion,
+/// would not fit in the memory budget.
+pub(crate) fn decode(path: &Path, converted_per_pixel: u64) -> Result<DynamicImage> {
+    let mut reader = ImageReader::new(BufReader::new(open_input(path)?));
+    if let Ok(format) = ImageFormat::from_path(path) {
+        reader.set_format(format);
+    }
+    let mut reader = reader.with_guessed_format().map_err(|e| Error::read(path, open_message(&e)))?;
     let format = reader.format();
-    // Size is checked against MAX_SIDE below; no byte budget beyond that.
+    // Sizes are checked against the limits below, memory against the budget: no byte limit beyond those.
     reader.no_limits();
     let decoder = reader.into_decoder().map_err(|e| decode_error(path, format, e))?;
     let (width, height) = decoder.dimensions();
     check_size(width as usize, height as usize).map_err(|m| Error::read(path, m))?;
+    if format == Some(ImageFormat::Jpeg) {
+        check_jpeg_complete(path)?;
+    }
+    let pixels = u64::from(width) * u64::from(height);
+    limits::reserve(decoder.total_bytes() + pixels * converted_per_pixel, || {
+        format!("{}: decoding its {width}x{height} pixels", path.display())
+    })?;
     DynamicImage::from_decoder(decoder).map_err(|e| decode_error(path, format, e))
+}
+
+/// Opens an input file, refusing anything but a regular file: reading a FIFO or a device could block
+/// forever or never end.
+pub fn open_input(path: &Path) -> Result<File> {
+    check_input(path)?;
+    File::open(path).map_err(|e| Error::read(path, open_message(&e)))
+}
+
+/// `Ok` if `path` names a regular file (through any symlinks), else a read error saying what it is.
+pub fn check_input(path: &Path) -> Result<()> {
+    if path.as_os_str().is_empty() {
+        return Err(Error::Invalid("an input file name is empty".into()));
+    }
+    let meta = fs::metadata(path).map_err(|e| Error::read(path, open_message(&e)))?;
+    if meta.is_dir() {
+        Err(Error::read(path, "is a folder, not a file"))
+    } else if !meta.is_file() {
+        Err(Error::read(path, "not a regular file (a FIFO, socket or device cannot be read as an input)"))
+    } else {
+        Ok(())
+    }
+}
+
+/// A JPEG cut short has no end-of-image marker after its last scan; the decoder would fill the missing
+/// rows in silently, so a small cut file could pose as a huge image. Marker bytes cannot occur inside
+/// entropy-coded data (an 0xFF there is always followed by 0x00 or a restart marker), so a byte search
+/// finds them.
+fn check_jpeg_complete(path: &Path) -> Result<()> {
+    let bytes = fs::read(path).map_err(|e| Error::read(path, open_message(&e)))?;
+    let last_scan = bytes.windows(2).rposition(|m| m == [0xFF, 0xDA]);
+    match last_scan {
+        Some(at) if bytes[at..].windows(2).any(|m| m == [0xFF, 0xD9]) => Ok(()),
+        _ => Err(Error::read(path, "truncated or corrupt JPEG: no end-of-image marker after its last scan")),
+    }
 }
 
 /// Grey values from interleaved samples with `channels` per pixel, divided by `full_scale`.
@@ -311,14 +354,19 @@ fn grey_pixels<S: Copy + Into<f32>>(samples: &[S], channels: usize, full_scale: 
         .collect()
 }
 
-/// `Ok` if `width` x `height` is a usable image size, else what is wrong with it.
-fn check_size(width: usize, height: usize) -> std::result::Result<(), String> {
+/// `Ok` if `width` x `height` is a usable image size within the limits on image files (a small file
+/// claiming a huge size must not make a reader allocate many gigabytes), else what is wrong with it.
+pub fn check_size(width: usize, height: usize) -> std::result::Result<(), String> {
+    let (side, pixels) = (Limit::ImageSide.count(), Limit::ImagePixels.count());
     if width == 0 || height == 0 {
         Err(format!("image is {width}x{height}, it has no pixels"))
-    } else if width > MAX_SIDE || height > MAX_SIDE {
-        Err(format!("image is {width}x{height} pixels, larger than the {MAX_SIDE} limit"))
-    } else if width * height > MAX_PIXELS {
-        Err(format!("image is {width}x{height} pixels, more than the {MAX_PIXELS} pixel limit (16384 x 16384)"))
+    } else if width > side || height > side {
+        Err(format!("image is {width}x{height} pixels, larger than the {side} limit ({})", Limit::ImageSide.hint()))
+    } else if width.saturating_mul(height) > pixels {
+        Err(format!(
+            "image is {width}x{height} pixels, more than the {pixels} pixel limit ({})",
+            Limit::ImagePixels.hint()
+        ))
     } else {
         Ok(())
     }
@@ -354,7 +402,7 @@ fn write_png(
 ) -> Result<()> {
     let png_error = |e: png::EncodingError| Error::write(path, e);
     write_atomic(path, |out| {
-        // Sizes were checked against MAX_SIDE, so they fit in u32.
+        // Sizes were checked against the side limit (at most 2^20), so they fit in u32.
         let mut encoder = png::Encoder::new(out, width as u32, height as u32);
         encoder.set_color(color);
         encoder.set_depth(depth);
@@ -364,32 +412,6 @@ fn write_png(
         writer.write_image_data(data).map_err(png_error)?;
         writer.finish().map_err(png_error)
     })
-}
-
-/// `.{file name}.{pid}.{n}.tmp` beside `path`; `n` keeps concurrent writers in one process apart.
-fn temp_path(path: &Path) -> Result<PathBuf> {
-    static COUNTER: AtomicUsize = AtomicUsize::new(0);
-    let name = path.file_name().ok_or_else(|| Error::write(path, "not a file name"))?;
-    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let tmp_name = format!(".{}.{}.{n}.tmp", name.to_string_lossy(), std::process::id());
-    Ok(path.with_file_name(tmp_name))
-}
-
-/// Creates `tmp`, lets `write` fill it through a buffer and flushes it; errors name `path`.
-fn write_file(tmp: &Path, path: &Path, write: impl FnOnce(&mut dyn Write) -> Result<()>) -> Result<()> {
-    let file = File::create(tmp).map_err(|e| Error::write(path, create_message(path, &e)))?;
-    let mut out = BufWriter::new(file);
-    write(&mut out)?;
-    out.flush().map_err(|e| Error::write(path, e))
-}
-
-fn create_message(path: &Path, e: &io::Error) -> String {
-    match path.parent() {
-        Some(dir) if e.kind() == io::ErrorKind::NotFound && !dir.as_os_str().is_empty() => {
-            format!("directory {} does not exist", dir.display())
-        }
-        _ => e.to_string(),
-    }
 }
 
 pub(crate) fn open_message(e: &io::Error) -> String {
@@ -473,6 +495,7 @@ fn samples_f32(samples: FlatSamples) -> Vec<f32> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::path::PathBuf;
 
     /// A fresh folder under the system temp dir, removed when dropped.
     struct Scratch(PathBuf);
@@ -667,7 +690,7 @@ mod tests {
         let out = dir.path("out.png");
         assert!(invalid_message(write_png_grey8(&out, &Image::new(0, 0, 0.0))).contains("0x0"));
         assert!(invalid_message(write_png_rgb8(&out, 0, 4, &[])).contains("0x4"));
-        let wide = Image::new(MAX_SIDE + 1, 1, 0.5);
+        let wide = Image::new(32769, 1, 0.5);
         assert!(invalid_message(write_png_grey16(&out, &wide)).contains("larger than the 32768 limit"));
         assert!(invalid_message(write_png_rgb8(&out, 2, 2, &[0; 11])).contains("needs 12 samples, got 11"));
         assert!(dir.entries().is_empty());
@@ -683,49 +706,72 @@ mod tests {
         // A valid 40000x1 PNG is refused before its pixels are decoded.
         let huge = dir.path("huge.png");
         write_png(&huge, 40000, 1, png::ColorType::Grayscale, png::BitDepth::Eight, &vec![0; 40000]).unwrap();
-        assert_eq!(read_message(load_grey(&huge), &huge), "image is 40000x1 pixels, larger than the 32768 limit");
+        assert_eq!(
+            read_message(load_grey(&huge), &huge),
+            "image is 40000x1 pixels, larger than the 32768 limit (raise it with --limit image-side=N)"
+        );
     }
 
     #[test]
-    fn write_atomic_into_missing_directory_fails_and_leaves_nothing() {
-        let dir = Scratch::new("nodir");
-        let path = dir.path("missing").join("out.png");
-        match write_atomic(&path, |w| w.write_all(b"data").map_err(|e| Error::write(&path, e))) {
-            Err(Error::Write { path: p, message }) => {
-                assert_eq!(p, path);
-                assert!(message.contains("does not exist"), "{message}");
-            }
-            other => panic!("expected a write error, got {other:?}"),
-        }
-        assert!(dir.entries().is_empty());
-    }
-
-    #[test]
-    fn failing_writer_leaves_no_file_and_keeps_the_old_one() {
-        let dir = Scratch::new("failing");
-        let fail = |w: &mut dyn Write| {
-            w.write_all(b"partial").unwrap();
-            Err(Error::Invalid("boom".into()))
+    fn float_tiffs_load_as_height_maps_and_colour_textures() {
+        use tiff::encoder::{colortype, TiffEncoder};
+        let dir = Scratch::new("float-tiff");
+        let grey: Vec<f32> = vec![0.0, 0.25, 1.5, -2.0, 1e-3, 7.0];
+        let rgb: Vec<f32> = (0..18).map(|i| i as f32 * 0.125 - 0.5).collect();
+        let write = |name: &str, f: &dyn Fn(&mut TiffEncoder<File>)| {
+            let path = dir.path(name);
+            f(&mut TiffEncoder::new(File::create(&path).unwrap()).unwrap());
+            path
         };
-        let new = dir.path("new.bin");
-        assert_eq!(invalid_message(write_atomic(&new, fail)), "boom");
-        assert!(dir.entries().is_empty());
-
-        let old = dir.path("old.bin");
-        fs::write(&old, "old").unwrap();
-        assert_eq!(invalid_message(write_atomic(&old, fail)), "boom");
-        assert_eq!(fs::read_to_string(&old).unwrap(), "old");
-        assert_eq!(dir.entries(), ["old.bin"]);
+        let grey_path = write("g.tif", &|e| e.write_image::<colortype::Gray32Float>(3, 2, &grey).unwrap());
+        let rgb_path = write("c.tif", &|e| e.write_image::<colortype::RGB32Float>(3, 2, &rgb).unwrap());
+        assert_eq!(load_grey(&grey_path).unwrap().pixels, grey);
+        for (path, want) in [(&grey_path, grey.iter().map(|&g| [g, g, g, 1.0]).collect::<Vec<_>>()), (
+            &rgb_path,
+            rgb.chunks(3).map(|c| [c[0], c[1], c[2], 1.0]).collect(),
+        )] {
+            match load_texels(path, true).unwrap() {
+                Texels::Linear(image) => assert_eq!(image.pixels, want, "{}", path.display()),
+                Texels::Rgba8(_) => panic!("{}: float texels came back as bytes", path.display()),
+            }
+        }
+        let luma: Vec<f32> = rgb.chunks(3).map(|c| LUMA[0] * c[0] + LUMA[1] * c[1] + LUMA[2] * c[2]).collect();
+        for (got, want) in load_grey(&rgb_path).unwrap().pixels.iter().zip(&luma) {
+            assert!((got - want).abs() < 1e-6, "{got} vs {want}");
+        }
     }
 
     #[test]
-    fn write_atomic_replaces_the_file() {
-        let dir = Scratch::new("replace");
-        let path = dir.path("out.txt");
-        fs::write(&path, "old contents").unwrap();
-        write_atomic(&path, |w| w.write_all(b"new").map_err(|e| Error::write(&path, e))).unwrap();
-        assert_eq!(fs::read_to_string(&path).unwrap(), "new");
-        assert_eq!(dir.entries(), ["out.txt"]);
+    fn a_jpeg_cut_short_is_refused_though_its_decoder_would_fill_it_in() {
+        let dir = Scratch::new("cut-jpeg");
+        let path = dir.path("cut.jpg");
+        let pixels = noise_bytes(256 * 256);
+        ::image::save_buffer_with_format(&path, &pixels, 256, 256, ::image::ExtendedColorType::L8, ImageFormat::Jpeg)
+            .unwrap();
+        assert_eq!(load_grey(&path).unwrap().width, 256);
+        let bytes = fs::read(&path).unwrap();
+        fs::write(&path, &bytes[..bytes.len() / 2]).unwrap();
+        let message = read_message(load_grey(&path), &path);
+        assert_eq!(message, "truncated or corrupt JPEG: no end-of-image marker after its last scan");
+        read_message(load_rgba8(&path), &path);
+        // Bytes after the end-of-image marker (a camera's trailer) are allowed.
+        let mut trailer = bytes.clone();
+        trailer.extend_from_slice(b"trailing data");
+        fs::write(&path, &trailer).unwrap();
+        assert_eq!(load_grey(&path).unwrap().height, 256);
+    }
+
+    #[test]
+    fn inputs_that_are_not_regular_files_are_refused_without_blocking() {
+        let dir = Scratch::new("special");
+        let fifo = dir.path("pipe.png");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status().is_ok_and(|s| s.success());
+        assert!(made, "mkfifo failed");
+        assert!(read_message(load_grey(&fifo), &fifo).starts_with("not a regular file"));
+        assert!(read_message(load_texels(&fifo, true).map(|_| ()), &fifo).starts_with("not a regular file"));
+        assert!(read_message(read_exr_channels(&fifo), &fifo).starts_with("not a regular file"));
+        assert_eq!(read_message(load_grey(&dir.0), &dir.0), "is a folder, not a file");
+        assert!(matches!(load_grey(Path::new("")), Err(Error::Invalid(m)) if m == "an input file name is empty"));
     }
 
     #[test]

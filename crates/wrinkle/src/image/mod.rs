@@ -2,6 +2,7 @@
 
 pub mod color;
 pub mod io;
+pub mod output;
 pub mod resample;
 pub mod stream;
 pub mod strips;

@@ -4,7 +4,7 @@
 //! are decoded row by row with the `png` crate; every other input (interlaced PNG, JPEG, BMP, TGA, TIFF) is
 //! decoded whole by the `image` crate and then handed out row by row. [`write_rows`] writes rows as a PNG
 //! through the `png` crate's streaming encoder, or collects them into a 24-bit BMP (BMP stores rows bottom
-//! up, so it cannot be streamed). Outputs are written atomically (`io::write_atomic`).
+//! up, so it cannot be streamed). Outputs are placed whole (`output::write_atomic`).
 
 use std::fs::File;
 use std::io::{BufReader, Read, Write};
@@ -12,8 +12,10 @@ use std::path::{Path, PathBuf};
 
 use ::image::{DynamicImage, ImageReader};
 
-use super::io::{decode, decode_error, open_message, write_atomic, LUMA};
+use super::io::{decode, decode_error, open_input, open_message, LUMA};
+use super::output::write_atomic;
 use crate::error::{Error, Result};
+use crate::limits::Limit;
 
 const PNG_SIGNATURE: [u8; 8] = [137, 80, 78, 71, 13, 10, 26, 10];
 
@@ -46,24 +48,22 @@ pub struct ImageRows {
 }
 
 impl ImageRows {
-    /// Opens `path` and reads its header. Images wider or taller than `max_side` are refused before any
-    /// pixel is decoded; so are empty ones.
-    pub fn open(path: &Path, max_side: usize) -> Result<ImageRows> {
+    /// Opens `path` and reads its header. Images wider or taller than the image-side limit are refused
+    /// before any pixel is decoded; so are empty ones. Streamed PNG rows need no pixel-count limit; other
+    /// formats, decoded whole, are held to every limit of `io`.
+    pub fn open(path: &Path) -> Result<ImageRows> {
         let mut signature = [0u8; 8];
-        let is_png = File::open(path)
-            .and_then(|mut f| f.read(&mut signature))
-            .map_err(|e| Error::read(path, open_message(&e)))?
-            == 8
+        let is_png = open_input(path)?.read(&mut signature).map_err(|e| Error::read(path, open_message(&e)))? == 8
             && signature == PNG_SIGNATURE;
         if is_png {
-            let file = File::open(path).map_err(|e| Error::read(path, open_message(&e)))?;
+            let file = open_input(path)?;
             let mut decoder = png::Decoder::new(BufReader::with_capacity(1 << 16, file));
             decoder.set_transformations(png::Transformations::EXPAND);
-            // Sizes are checked against max_side here; the rows themselves are small.
+            // Sizes are checked against the side limit here; the rows themselves are small.
             decoder.set_limits(png::Limits { bytes: usize::MAX });
             let reader = decoder.read_info().map_err(|e| png_error(path, e))?;
             let (width, height) = (reader.info().width as usize, reader.info().height as usize);
-            check_side(path, width, height, max_side)?;
+            check_side(path, width, height)?;
             if !reader.info().interlaced {
                 let (color, depth) = reader.output_color_type();
                 let layout = Layout { channels: color.samples(), sixteen: depth == png::BitDepth::Sixteen };
@@ -77,9 +77,9 @@ impl ImageRows {
                 .map_err(|e| Error::read(path, open_message(&e)))?;
             let format = dims.format();
             let (w, h) = dims.into_dimensions().map_err(|e| decode_error(path, format, e))?;
-            check_side(path, w as usize, h as usize, max_side)?;
+            check_side(path, w as usize, h as usize)?;
         }
-        Self::in_memory(path, decode(path)?)
+        Self::in_memory(path, decode(path, 8)?)
     }
 
     /// Rows of an 8-bit RGB image held in memory (3 bytes per pixel, row 0 at the top); `path` names it in
@@ -240,14 +240,15 @@ impl ImageRows {
     }
 }
 
-/// Refuses empty images and images larger than `max_side` on either side.
-fn check_side(path: &Path, width: usize, height: usize, max_side: usize) -> Result<()> {
+/// Refuses empty images and images larger than the image-side limit on either side.
+fn check_side(path: &Path, width: usize, height: usize) -> Result<()> {
+    let side = Limit::ImageSide.count();
     if width == 0 || height == 0 {
         Err(Error::read(path, format!("image is {width}x{height}, it has no pixels")))
-    } else if width > max_side || height > max_side {
+    } else if width > side || height > side {
         Err(Error::read(
             path,
-            format!("image is {width}x{height} pixels, larger than the limit of {max_side} per side"),
+            format!("image is {width}x{height} pixels, larger than the {side} limit ({})", Limit::ImageSide.hint()),
         ))
     } else {
         Ok(())
@@ -419,7 +420,7 @@ mod tests {
                 data.chunks(rows.row_bytes(w)).try_for_each(sink)
             })
             .unwrap();
-            let mut src = ImageRows::open(&path, 100).unwrap();
+            let mut src = ImageRows::open(&path).unwrap();
             assert_eq!((src.width(), src.height(), src.is_sixteen_bit()), (w, h, rows.sixteen));
             let mut row = vec![0.0; w];
             for y in 0..h {
@@ -438,9 +439,9 @@ mod tests {
         let dir = scratch("limits");
         let path = dir.join("wide.png");
         let rows = RowFormat { channels: 1, sixteen: false };
-        write_rows(&path, 40, 2, rows, PngCompression::Default, |sink| sink(&[7u8; 80])).unwrap();
-        let err = ImageRows::open(&path, 32).err().unwrap().to_string();
-        assert!(err.contains("larger than the limit of 32 per side"), "{err}");
+        write_rows(&path, 32769, 2, rows, PngCompression::Default, |sink| sink(&[7u8; 2 * 32769])).unwrap();
+        let err = ImageRows::open(&path).err().unwrap().to_string();
+        assert!(err.contains("larger than the 32768 limit (raise it with --limit image-side=N)"), "{err}");
         let err = write_rows(&dir.join("x.gif"), 1, 1, rows, PngCompression::Fast, |s| s(&[0])).unwrap_err();
         assert!(err.to_string().contains("must end in .png or .bmp"));
         // Too few rows: an error, and no file.

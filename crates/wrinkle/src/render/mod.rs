@@ -18,16 +18,12 @@ use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleS
 use crate::scene::Scene;
 use crate::shade::{ShadeContext, ShadedSample, SurfaceSamples8};
 use crate::texture::{Filter, Footprint8};
+use crate::limits::Limit;
 use crate::{Error, Result};
 use glam::{Affine3A, Quat, Vec2, Vec3};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
-
-/// The largest image side accepted.
-pub const MAX_SIDE: usize = 16384;
-/// The most pixels a frame may have: 8192 x 8192 (with every AOV about 3 GB).
-pub const MAX_PIXELS: usize = 8192 * 8192;
 
 /// The longest a tessellation segment may be on screen, in pixels.
 const SEGMENT_PX: f32 = 16.0;
@@ -67,15 +63,18 @@ impl Default for RenderOptions {
 
 impl RenderOptions {
     pub fn validate(&self) -> Result<()> {
+        let (side, pixels) = (Limit::FrameSide.count(), Limit::FramePixels.count());
         for (name, v) in [("width", self.width), ("height", self.height)] {
-            if v == 0 || v > MAX_SIDE {
-                return Err(Error::Invalid(format!("--{name} must be between 1 and {MAX_SIDE}, got {v}")));
+            if v == 0 || v > side {
+                return Err(Error::Invalid(format!("--{name} must be between 1 and {side}, got {v}")));
             }
         }
-        if self.width * self.height > MAX_PIXELS {
+        if self.width * self.height > pixels {
             return Err(Error::Invalid(format!(
-                "{}x{} is more than {MAX_PIXELS} pixels (8192 x 8192); render it in parts",
-                self.width, self.height
+                "{}x{} is more than the {pixels} pixel limit of a frame ({})",
+                self.width,
+                self.height,
+                Limit::FramePixels.hint()
             )));
         }
         if SamplePattern::new(self.spp).is_none() {
