@@ -9,10 +9,11 @@ use wrinkle::image::color::SrgbEncoder;
 use crate::output::require_extension;
 use wrinkle::image::io;
 use wrinkle::image::output::OutputSet;
-use wrinkle::texture::mip::build_levels;
+use wrinkle::limits;
+use wrinkle::texture::mip::{build_levels, half};
 use wrinkle::texture::texel::Plane;
 use wrinkle::texture::{MipFilter, Wrap};
-use wrinkle::Result;
+use wrinkle::{Error, Result};
 
 #[derive(Args, Debug)]
 #[command(
@@ -43,9 +44,22 @@ pub fn run(args: &MipmapArgs) -> Result<()> {
     let filter = MipFilter::parse(&args.filter).expect("clap checked the name");
     let wrap = Wrap::parse(&args.wrap).expect("clap checked the name");
     let image = io::load_rgba_linear(&args.input, !args.linear)?;
+    let (w, h) = (image.width, image.height);
+    // The float pyramid (4/3 of the base), and the largest 8-bit image written (the atlas, 3/2 the base).
+    let pixels = (w * h) as u64;
+    limits::reserve(pixels * 16 * 4 / 3 + pixels * 4 * 3 / 2, || {
+        format!("{}: a MIP pyramid of {w}x{h}", args.input.display())
+    })?;
+    if !args.levels {
+        let (aw, ah) = atlas_size(w, h);
+        io::check_size(aw, ah).map_err(|m| {
+            Error::Invalid(format!("{}: the atlas of a {w}x{h} texture: {m}; or write --levels", args.output.display()))
+        })?;
+    }
     let t = Instant::now();
-    let rows: Vec<Vec4> = image.pixels.iter().map(|&p| Vec4::from(p)).collect();
-    let levels = build_levels(Plane::from_top_rows(image.width, image.height, &rows), filter, [wrap; 2]);
+    let base = Plane::from_top_rows_with(w, h, &image.pixels, Vec4::from);
+    drop(image);
+    let levels = build_levels(base, filter, [wrap; 2]);
     let ms = t.elapsed().as_secs_f64() * 1e3;
     let encode = Encoder { srgb: !args.linear, table: SrgbEncoder::new() };
     if args.levels {
@@ -63,8 +77,8 @@ pub fn run(args: &MipmapArgs) -> Result<()> {
     println!(
         "{} levels from {}x{} ({} filter, {}), built in {ms:.1} ms",
         levels.len(),
-        image.width,
-        image.height,
+        w,
+        h,
         args.filter,
         if args.linear { "linear data" } else { "sRGB decoded to linear light" }
     );
@@ -86,16 +100,24 @@ impl Encoder {
 
     /// A level as RGBA bytes, row 0 at the top.
     fn plane(&self, level: &Plane<Vec4>) -> Vec<u8> {
-        level.to_top_rows().into_iter().flat_map(|v| self.texel(v)).collect()
+        (0..level.height).rev().flat_map(|j| level.row(j).iter().flat_map(|&v| self.texel(v))).collect()
     }
+}
+
+/// The atlas's width and height for a `w` x `h` base: level 0 and, to its right, the others stacked.
+fn atlas_size(w: usize, h: usize) -> (usize, usize) {
+    let (mut lw, mut lh, mut stacked) = (w, h, 0);
+    while lw > 1 || lh > 1 {
+        (lw, lh) = (half(lw), half(lh));
+        stacked += lh;
+    }
+    (if w == 1 && h == 1 { 1 } else { w + half(w) }, h.max(stacked))
 }
 
 /// Level 0 on the left, the other levels stacked top to bottom to its right; transparent elsewhere.
 fn atlas(levels: &[Plane<Vec4>], encode: &Encoder) -> (usize, usize, Vec<u8>) {
-    let (w0, h0) = (levels[0].width, levels[0].height);
-    let right = levels.get(1).map_or(0, |l| l.width);
-    let stacked: usize = levels[1..].iter().map(|l| l.height).sum();
-    let (w, h) = (w0 + right, h0.max(stacked));
+    let (w, h) = atlas_size(levels[0].width, levels[0].height);
+    let w0 = levels[0].width;
     let mut bytes = vec![0u8; w * h * 4];
     let mut place = |level: &Plane<Vec4>, x0: usize, y0: usize| {
         let rgba = encode.plane(level);

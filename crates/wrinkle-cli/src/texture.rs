@@ -5,8 +5,10 @@ use clap::Args;
 use std::path::PathBuf;
 use wrinkle::image::color::linear_to_srgb;
 use wrinkle::image::io;
-use wrinkle::procedural::bake::{bake, colorize};
-use wrinkle::procedural::effects::{Kind, Params, Pattern};
+use rayon::prelude::*;
+use wrinkle::image::stream::{write_rows, PngCompression, RowFormat};
+use wrinkle::procedural::bake::bake_rows;
+use wrinkle::procedural::effects::{spline, Kind, Params, Pattern};
 use wrinkle::procedural::fbm::Octaves;
 use wrinkle::procedural::Variant;
 use wrinkle::{Error, Result};
@@ -165,30 +167,55 @@ pub fn run(args: &TextureArgs) -> Result<()> {
     };
     let pattern = Pattern::new(args.params(kind)?, 2, args.tileable)?;
     let t = std::time::Instant::now();
-    let rgb = colorize(&pattern, &bake(&pattern, w, h));
-    let bake_ms = t.elapsed().as_secs_f64() * 1e3;
-    let flat: Vec<f32> = rgb.pixels.iter().flatten().copied().collect();
+    let rows = RowFormat { channels: 3, sixteen: args.bits == 16 };
+    // Baked, coloured and encoded a band of rows at a time: a 16384 x 16384 PNG never exists whole.
+    let band = ((1 << 20) / w).clamp(1, h);
+    let bake_band = |y0: usize| -> Vec<f32> {
+        let mut t = vec![0.0f32; band.min(h - y0) * w];
+        bake_rows(&pattern, w, h, y0, &mut t);
+        t
+    };
     match format {
         Format::Exr => {
-            let channel = |c: usize| -> Vec<f32> { rgb.pixels.iter().map(|p| p[c]).collect() };
-            let (r, g, b) = (channel(0), channel(1), channel(2));
-            io::write_exr(out, w, h, &[("R", &r), ("G", &g), ("B", &b)])?;
-        }
-        Format::Png => {
-            let encoded: Vec<f32> = if srgb { flat.iter().map(|&v| linear_to_srgb(v)).collect() } else { flat };
-            if args.bits == 16 {
-                io::write_png_rgb16(out, w, h, &encoded)?;
-            } else {
-                let bytes: Vec<u8> = encoded.iter().map(|&v| (v.clamp(0.0, 1.0) * 255.0).round() as u8).collect();
-                io::write_png_rgb8(out, w, h, &bytes)?;
+            let mut channels = [0, 1, 2].map(|_| Vec::with_capacity(w * h));
+            for y0 in (0..h).step_by(band) {
+                let rgb: Vec<[f32; 3]> = bake_band(y0).par_iter().map(|&t| spline(&pattern.params.colors, t)).collect();
+                for (c, channel) in channels.iter_mut().enumerate() {
+                    channel.extend(rgb.iter().map(|p| p[c]));
+                }
             }
+            let [r, g, b] = channels;
+            io::write_exr_owned(out, w, h, vec![("R", r), ("G", g), ("B", b)])?;
         }
+        Format::Png => write_rows(out, w, h, rows, PngCompression::Fast, |sink| {
+            let per_pixel = rows.row_bytes(1);
+            let mut bytes = vec![0u8; band * w * per_pixel];
+            for y0 in (0..h).step_by(band) {
+                let t = bake_band(y0);
+                let bytes = &mut bytes[..t.len() * per_pixel];
+                bytes.par_chunks_mut(per_pixel).zip(&t).for_each(|(px, &t)| {
+                    let rgb = spline(&pattern.params.colors, t).map(|v| if srgb { linear_to_srgb(v) } else { v });
+                    for (c, v) in rgb.into_iter().enumerate() {
+                        let v = v.clamp(0.0, 1.0);
+                        if rows.sixteen {
+                            px[2 * c..2 * c + 2].copy_from_slice(&((v * 65535.0).round() as u16).to_be_bytes());
+                        } else {
+                            px[c] = (v * 255.0).round() as u8;
+                        }
+                    }
+                });
+                sink(bytes)?;
+            }
+            Ok(())
+        })?,
     }
+    let bake_ms = t.elapsed().as_secs_f64() * 1e3;
     println!(
-        "wrote {} ({w}x{h}, {}{}, baked in {bake_ms:.1} ms)",
+        "wrote {} ({w}x{h}, {}{}, baked and written in {bake_ms:.1} ms)",
         out.display(),
         kind.name(),
         if args.tileable { ", tileable" } else { "" }
     );
     Ok(())
 }
+

@@ -559,6 +559,31 @@ fn texture_writes_every_kind_and_format() {
     assert_eq!((w, h, channels.len()), (16, 8, 3));
 }
 
+/// Large bakes are written a band of rows at a time (64 rows at 16384 wide): the rows meet across band
+/// boundaries as they do inside a band, and the 16-bit PNG holds the EXR's values.
+#[test]
+fn texture_bands_join_seamlessly_and_png_matches_exr() {
+    let s = Scratch::new("texture-bands");
+    let (exr, png) = (s.out("fbm.exr"), s.out("fbm.png"));
+    let size = ["--size", "16384x130", "--seed", "4", "--scale", "64"];
+    assert_ok(&wrinkle(&[&["texture", "fbm", "-o", &exr][..], &size].concat()));
+    assert_ok(&wrinkle(&[&["texture", "fbm", "-o", &png, "--bits", "16"][..], &size].concat()));
+    let (w, h, channels) = read_exr_channels(Path::new(&exr)).unwrap();
+    assert_eq!((w, h), (16384, 130));
+    let r = &channels.iter().find(|(n, _)| n == "R").unwrap().1;
+    let step = |y: usize| (0..w).map(|x| (r[(y + 1) * w + x] - r[y * w + x]).abs()).sum::<f32>() / w as f32;
+    let (inside, across) = ((step(61) + step(62) + step(65) + step(66)) / 4.0, step(63));
+    assert!(inside > 1e-4, "the rows differ at all: {inside}");
+    assert!((across - inside).abs() < 0.25 * inside, "band boundary step {across} vs {inside} inside");
+    let grey = wrinkle::image::io::load_grey(Path::new(&png)).unwrap();
+    let g = &channels.iter().find(|(n, _)| n == "G").unwrap().1;
+    let b = &channels.iter().find(|(n, _)| n == "B").unwrap().1;
+    for k in (0..w * h).step_by(997) {
+        let luma = 0.2126 * r[k].clamp(0.0, 1.0) + 0.7152 * g[k].clamp(0.0, 1.0) + 0.0722 * b[k].clamp(0.0, 1.0);
+        assert!((grey.pixels[k] - luma).abs() < 2e-5, "pixel {k}: PNG {} vs EXR {luma}", grey.pixels[k]);
+    }
+}
+
 #[test]
 fn texture_rejects_bad_requests_in_one_line() {
     let s = Scratch::new("texture-bad");

@@ -95,6 +95,15 @@ pub enum Generator {
 impl Generator {
     /// The table of this generator at `size` texels (for text, the height; the width is `size` per letter).
     pub fn generate(&self, size: usize) -> Result<GreyImage> {
+        let letters = match self {
+            Generator::Text(p) => p.text.chars().count().max(1),
+            _ => 1,
+        };
+        let texels = (size as u64).saturating_mul(size as u64).saturating_mul(letters as u64);
+        // The grey image, and the bump table with its pyramid (4/3 of 4 bytes a texel) that is made from it.
+        if size <= MAX_SIZE {
+            crate::limits::reserve(texels.saturating_mul(4 + 16 / 3), || format!("a {size}-texel bump table"))?;
+        }
         match self {
             Generator::Grid(p) => grid(size, p),
             Generator::Text(p) => text(size, p),

@@ -226,7 +226,13 @@ pub fn write_png_grey8(path: &Path, img: &GreyImage) -> Result<()> {
 /// row 0 at the top. Compression is ZIP (16 scan lines per block), which is lossless:
 /// every value, NaN included, reads back bit for bit.
 pub fn write_exr(path: &Path, width: usize, height: usize, channels: &[(&str, &[f32])]) -> Result<()> {
-    let samples = channels.iter().map(|&(name, s)| (name, FlatSamples::F32(s.to_vec()))).collect();
+    let owned = channels.iter().map(|&(name, s)| (name, s.to_vec())).collect();
+    write_exr_owned(path, width, height, owned)
+}
+
+/// `write_exr` taking the channels' samples over, for data too large to copy.
+pub fn write_exr_owned(path: &Path, width: usize, height: usize, channels: Vec<(&str, Vec<f32>)>) -> Result<()> {
+    let samples = channels.into_iter().map(|(name, s)| (name, FlatSamples::F32(s))).collect();
     write_exr_samples(path, width, height, samples)
 }
 

@@ -2,26 +2,26 @@
 //! ((i + 0.5) / W, 1 - (j + 0.5) / H) (row 0 at the top, v up), with the pixel's size as the footprint.
 //! A tileable pattern repeats over [0, 1) in u and v, so the image's opposite edges join.
 
-use super::effects::{spline, Pattern};
+use super::effects::Pattern;
 use crate::image::Image;
 use rayon::prelude::*;
 
 /// The pattern's t in [0, 1] at every pixel of a `width` x `height` image.
 pub fn bake(pattern: &Pattern, width: usize, height: usize) -> Image<f32> {
     let mut pixels = vec![0.0f32; width * height];
-    let (du, dv) = (1.0 / width as f32, 1.0 / height as f32);
-    let footprint = du.max(dv);
-    pixels.par_chunks_mut(width).enumerate().for_each(|(j, row)| {
-        let v = 1.0 - (j as f32 + 0.5) * dv;
-        pattern.row(0.0, du, v, footprint, row);
-    });
+    bake_rows(pattern, width, height, 0, &mut pixels);
     Image { width, height, pixels }
 }
 
-/// The pattern's colours (linear RGB) through its spline.
-pub fn colorize(pattern: &Pattern, t: &Image<f32>) -> Image<[f32; 3]> {
-    let colors = &pattern.params.colors;
-    Image { width: t.width, height: t.height, pixels: t.pixels.par_iter().map(|&t| spline(colors, t)).collect() }
+/// The rows from `first` down of a `width` x `height` bake, as many as `out` holds (whole rows), in
+/// parallel: a band of the image, so that a large one can be written without being held whole.
+pub fn bake_rows(pattern: &Pattern, width: usize, height: usize, first: usize, out: &mut [f32]) {
+    let (du, dv) = (1.0 / width as f32, 1.0 / height as f32);
+    let footprint = du.max(dv);
+    out.par_chunks_mut(width).enumerate().for_each(|(k, row)| {
+        let v = 1.0 - ((first + k) as f32 + 0.5) * dv;
+        pattern.row(0.0, du, v, footprint, row);
+    });
 }
 
 #[cfg(test)]

@@ -99,8 +99,9 @@ pub fn render_with_progress(
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Frame> {
     options.validate()?;
-    let mut stats = Stats::default();
     let (w, h) = (options.width, options.height);
+    crate::limits::reserve((w * h) as u64 * options.aovs.bytes_per_pixel(), || format!("a {w}x{h} frame"))?;
+    let mut stats = Stats::default();
     let cam = &scene.camera;
     let camera = Camera::new(cam.eye, cam.look_at, cam.up, cam.projection, w as u32, h as u32);
 

@@ -77,8 +77,7 @@ enum Levels {
 impl FilteredTexture {
     /// A texture from linear RGBA pixels (row 0 at the top, as images are stored).
     pub fn new(image: &Image<[f32; 4]>, options: TextureOptions) -> Self {
-        let rows: Vec<Vec4> = image.pixels.iter().map(|&p| Vec4::from(p)).collect();
-        let plane = Plane::from_top_rows(image.width, image.height, &rows);
+        let plane = Plane::from_top_rows_with(image.width, image.height, &image.pixels, Vec4::from);
         FilteredTexture::of(Levels::Float(Filterable::new(plane, options.mip_filter, options.wrap)), options)
     }
 

@@ -83,17 +83,17 @@ pub struct Plane<T> {
 impl<T: Texel> Plane<T> {
     /// `rows_from_top` as images store them (row 0 at the top), flipped so that row 0 is the bottom.
     pub fn from_top_rows(width: usize, height: usize, rows_from_top: &[T]) -> Self {
+        Self::from_top_rows_with(width, height, rows_from_top, |t| t)
+    }
+
+    /// [`Plane::from_top_rows`] converting each pixel on the way (no intermediate copy of the image).
+    pub fn from_top_rows_with<S: Copy>(width: usize, height: usize, rows_from_top: &[S], f: impl Fn(S) -> T) -> Self {
         let mut texels = Vec::with_capacity(width * height);
         for j in 0..height {
             let row = height - 1 - j;
-            texels.extend_from_slice(&rows_from_top[row * width..(row + 1) * width]);
+            texels.extend(rows_from_top[row * width..(row + 1) * width].iter().map(|&s| f(s)));
         }
         Plane { width, height, texels }
-    }
-
-    /// The texels with row 0 at the top again, as images are written.
-    pub fn to_top_rows(&self) -> Vec<T> {
-        (0..self.height).rev().flat_map(|j| self.row(j).iter().copied()).collect()
     }
 
     #[inline]
