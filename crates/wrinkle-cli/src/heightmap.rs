@@ -9,8 +9,6 @@ use wrinkle::bump::normal_map::decode_normal;
 use wrinkle::image::stream::{write_rows, ImageRows, OutputFormat, RowFormat};
 use wrinkle::{Error, Result};
 
-/// The most working memory the integration may take.
-const MAX_FIELD_BYTES: usize = 8 << 30;
 /// Normals closer to the picture's plane than this z are treated as this steep (the slope stays finite).
 const MIN_NZ: f32 = 1e-3;
 
@@ -67,15 +65,12 @@ pub fn run(args: &HeightmapArgs) -> Result<()> {
     let mut normals = ImageRows::open(&args.input)?;
     let (w, h) = (normals.width(), normals.height());
     let (fw, fh) = field_size(w, h, args.wrap);
-    if fw * fh * BYTES_PER_FIELD_PIXEL > MAX_FIELD_BYTES {
-        return Err(Error::Invalid(format!(
-            "{}: integrating a {w}x{h} map needs {} GB of memory, more than the {} GB limit{}",
-            args.input.display(),
-            (fw * fh * BYTES_PER_FIELD_PIXEL) >> 30,
-            MAX_FIELD_BYTES >> 30,
-            if args.wrap { "" } else { " (--wrap needs 4x less)" }
-        )));
-    }
+    // The transformed field, and the gradients read into it (8 bytes a pixel).
+    let need = (fw * fh * BYTES_PER_FIELD_PIXEL + w * h * 8) as u64;
+    wrinkle::limits::reserve(need, || {
+        let hint = if args.wrap { "" } else { " (--wrap needs 4x less)" };
+        format!("{}: integrating a {w}x{h} map{hint}", args.input.display())
+    })?;
     // Gradients per pixel of heights in [0, 1]: p = dh/dx, q = dh/dy with y down the rows.
     let convention = args.convention.convention();
     let (mut p, mut q) = (Vec::with_capacity(w * h), Vec::with_capacity(w * h));

@@ -102,6 +102,9 @@ impl Generator {
         let texels = (size as u64).saturating_mul(size as u64).saturating_mul(letters as u64);
         // The grey image, and the bump table with its pyramid (4/3 of 4 bytes a texel) that is made from it.
         if size <= MAX_SIZE {
+            // A table is held whole, as an image file is: the same size limits, checked before any work.
+            crate::image::io::check_size(size * letters, size)
+                .map_err(|m| Error::Invalid(format!("--size {size}: the table's {m}")))?;
             crate::limits::reserve(texels.saturating_mul(4 + 16 / 3), || format!("a {size}-texel bump table"))?;
         }
         match self {
