@@ -234,7 +234,10 @@ fn scene_files_choose_the_filter_per_texture() {
             "{ texture = { path = \"t.png\", mipmap = \"tent\" } }",
             "objects[0].material.texture.mipmap: expected one of",
         ),
-        ("{ texture = { path = \"t.png\", border = [2, 0, 0] } }", "objects[0].material.texture.border"),
+        (
+            "{ texture = { path = \"t.png\", wrap = \"border\", border = [2, 0, 0] } }",
+            "objects[0].material.texture.border: expected components between 0 and 1",
+        ),
     ] {
         let e = parse(material).err().unwrap_or_else(|| panic!("{material} parsed")).to_string();
         assert!(e.starts_with(message), "{material}: {e}");

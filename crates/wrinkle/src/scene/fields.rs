@@ -10,11 +10,69 @@ pub struct Fields<'a> {
     table: &'a toml::Table,
 }
 
-fn describe(v: &Value) -> String {
+/// The most characters of a value an error message echoes.
+const ECHO: usize = 60;
+
+/// A value as error messages echo it: tables and arrays by their kind, strings by `quoted`.
+pub fn describe(v: &Value) -> String {
     match v {
         Value::Table(_) => "a table".into(),
         Value::Array(_) => "an array".into(),
+        Value::String(s) => quoted(s),
         other => other.to_string(),
+    }
+}
+
+/// The first `ECHO` characters of `s`, and the length of `s` in characters where it has more.
+fn head(s: &str) -> (&str, Option<usize>) {
+    match s.char_indices().nth(ECHO) {
+        None => (s, None),
+        Some((cut, _)) => (&s[..cut], Some(s.chars().count())),
+    }
+}
+
+/// A string as error messages echo it: in quotes, escaped (a newline as \n, so that the message stays one
+/// line), and cut after `ECHO` characters with an ellipsis and the full length: `"xxxx…" (52428800 characters)`.
+pub fn quoted(s: &str) -> String {
+    match head(s) {
+        (all, None) => format!("{all:?}"),
+        (start, Some(n)) => {
+            let shown = format!("{start:?}");
+            format!("{}…\" ({n} characters)", &shown[..shown.len() - 1])
+        }
+    }
+}
+
+/// A message from elsewhere (the TOML parser's) with every part it quotes in backticks cut like `quoted`:
+/// ``duplicate key `xxxx…` (52428800 characters)``.
+pub fn clip_backquoted(message: &str) -> String {
+    let (mut out, mut after) = (String::new(), String::new());
+    for (i, part) in message.split('`').enumerate() {
+        if i > 0 {
+            out.push('`');
+            out += &std::mem::take(&mut after);
+        }
+        match head(part) {
+            (start, Some(n)) if i % 2 == 1 => {
+                out += start;
+                out.push('…');
+                after = format!(" ({n} characters)");
+            }
+            _ => out += part,
+        }
+    }
+    out + &after
+}
+
+/// A key as an error path shows it: as written when it is a bare key of at most `ECHO` characters, else
+/// quoted like a TOML quoted key.
+fn key_in_path(key: &str) -> String {
+    let bare =
+        key.len() <= ECHO && !key.is_empty() && key.chars().all(|c| c.is_ascii_alphanumeric() || "_-".contains(c));
+    if bare {
+        key.to_string()
+    } else {
+        quoted(key)
     }
 }
 
@@ -28,7 +86,8 @@ impl<'a> Fields<'a> {
         let fields = Fields { path, table };
         for key in table.keys() {
             if !known.contains(&key.as_str()) {
-                return Err(fields.error(key, format!("unknown field (expected one of: {})", known.join(", "))));
+                let message = format!("unknown field (expected one of: {})", known.join(", "));
+                return Err(fields.error(&key_in_path(key), message));
             }
         }
         Ok(fields)
@@ -105,7 +164,7 @@ impl<'a> Fields<'a> {
         let Some(s) = self.string(key)? else { return Ok(default) };
         options.iter().find(|(name, _)| *name == s).map(|&(_, v)| v).ok_or_else(|| {
             let names: Vec<String> = options.iter().map(|(n, _)| format!("\"{n}\"")).collect();
-            self.error(key, format!("expected one of {}, got \"{s}\"", names.join(", ")))
+            self.error(key, format!("expected one of {}, got {}", names.join(", "), quoted(s)))
         })
     }
 
@@ -144,8 +203,11 @@ pub fn number_value(path: &str, v: &Value) -> Result<f32> {
         Value::Integer(i) => *i as f64,
         other => return Err(Error::scene(path, format!("expected a number, got {}", describe(other)))),
     };
-    if !x.is_finite() || x.abs() > f32::MAX as f64 {
+    if !x.is_finite() {
         return Err(Error::scene(path, format!("expected a finite number, got {x}")));
+    }
+    if x.abs() > f32::MAX as f64 {
+        return Err(Error::scene(path, format!("expected a number of magnitude at most {:e}, got {x:e}", f32::MAX)));
     }
     Ok(x as f32)
 }

@@ -1,6 +1,6 @@
 //! Reading a scene from TOML, field by field, with paths resolved against the scene file's folder.
 
-use super::fields::{number_value, points, vec3_value, Fields};
+use super::fields::{clip_backquoted, number_value, points, quoted, vec3_value, Fields};
 use super::mapping::{parse_mapping, uv_list};
 use super::procedural;
 use super::texture::{parse_normal_map, parse_texture, Role};
@@ -13,6 +13,7 @@ use crate::image::io;
 use crate::light::Light;
 use crate::mapping::polygon::QuadMapping;
 use crate::mapping::{Mapping, Projection as MapProjection, UvTransform};
+use crate::procedural::solid::Space;
 use crate::raster::Projection;
 use crate::shade::{Material, Phong};
 use crate::texture::reconstruct::Kernel;
@@ -71,6 +72,7 @@ impl Scene {
 /// A TOML syntax error as one line with its position: `malformed TOML at line 3, column 8: invalid table header; expected `.`, `]``.
 fn toml_error(text: &str, e: &toml::de::Error) -> Error {
     let message = e.message().lines().map(str::trim).filter(|l| !l.is_empty()).collect::<Vec<_>>().join("; ");
+    let message = clip_backquoted(&message);
     let position = e.span().map(|span| {
         let before = &text[..span.start.min(text.len())];
         let line = before.matches('\n').count() + 1;
@@ -168,7 +170,7 @@ fn parse_light(path: &str, v: &Value) -> Result<Light> {
         }
         other => Err(Error::scene(
             f.at("type"),
-            format!("expected one of \"directional\", \"point\", \"ambient\", got \"{other}\""),
+            format!("expected one of \"directional\", \"point\", \"ambient\", got {}", quoted(other)),
         )),
     }
 }
@@ -218,7 +220,8 @@ fn parse_object(path: &str, v: &Value, base: &Path, materials: &mut Vec<Material
             return Err(Error::scene(
                 f.at("shape"),
                 format!(
-                    "unknown shape \"{other}\" (expected one of sphere, cylinder, torus, patch, bicubic, box, mesh)"
+                    "unknown shape {} (expected one of sphere, cylinder, torus, patch, bicubic, box, mesh)",
+                    quoted(other)
                 ),
             ))
         }
@@ -282,7 +285,7 @@ fn quad_mapped(material: &mut Material, corners: [Vec3; 4], uv: &[Vec2]) {
 
 /// A model file's meshes, each with the file's material under the fields of the scene's `material`.
 fn parse_mesh(f: &Fields, base: &Path, materials: &mut Vec<Material>) -> Result<Shape> {
-    let file = resolve(base, f.required("file", f.string("file")?)?);
+    let file = resolve(base, &f.at("file"), f.required("file", f.string("file")?)?)?;
     let two_sided = match f.get("two_sided") {
         Some(_) => Some(f.boolean("two_sided", true)?),
         None => None,
@@ -373,14 +376,24 @@ fn parse_material(path: &str, v: &Value, base: &Path, under: Material) -> Result
     })
 }
 
-pub(super) fn resolve(base: &Path, name: &str) -> PathBuf {
-    let p = Path::new(name);
-    if p.is_absolute() {
-        p.to_path_buf()
-    } else {
-        base.join(p)
+/// The file a scene's file field (at `field`) names, resolved against the scene file's folder `base`. An
+/// empty name (which would name the folder) and one longer than any path the system takes are errors.
+pub(super) fn resolve(base: &Path, field: &str, name: &str) -> Result<PathBuf> {
+    if name.is_empty() {
+        return Err(Error::scene(field, "empty file name"));
     }
+    if name.len() > LONGEST_PATH {
+        return Err(Error::scene(
+            field,
+            format!("file name {} is longer than any path ({LONGEST_PATH} bytes)", quoted(name)),
+        ));
+    }
+    let p = Path::new(name);
+    Ok(if p.is_absolute() { p.to_path_buf() } else { base.join(p) })
 }
+
+/// The longest path Linux takes (PATH_MAX).
+const LONGEST_PATH: usize = 4096;
 
 /// The placement of a texture or bump table in (u,v): `repeat` (a positive count per axis, default
 /// [1, 1]), then `rotate` (degrees counter-clockwise), then `offset`.
@@ -420,7 +433,7 @@ fn parse_bump(path: &str, v: &Value, base: &Path) -> Result<BumpMap> {
     let image = match (f.string("map")?, f.get("generator"), f.get("procedural")) {
         (None, None, Some(p)) => Source::Procedural(p),
         (_, _, Some(_)) => return Err(Error::scene(f.at("procedural"), "give one of map, generator, procedural")),
-        (Some(file), None, None) => Source::Image(io::load_grey(&resolve(base, file))?),
+        (Some(file), None, None) => Source::Image(io::load_grey(&resolve(base, &f.at("map"), file)?)?),
         (None, Some(g), None) => Source::Image(parse_generator(&f.at("generator"), g)?),
         (Some(_), Some(_), None) => {
             return Err(Error::scene(f.at("generator"), "give either map or generator, not both"))
@@ -435,11 +448,23 @@ fn parse_bump(path: &str, v: &Value, base: &Path) -> Result<BumpMap> {
         (true, false) => BumpFormula::Full,
         (true, true) => return Err(Error::scene(f.at("invariant"), "applies to formula = \"blinn\" only")),
     };
+    let source = match image {
+        Source::Image(image) => BumpSource::Table(Arc::new(BumpTable::new(&image))),
+        Source::Procedural(p) => {
+            let pattern = procedural::parse_bump(&f.at("procedural"), p)?;
+            // A pattern has its gradient, not a table to read or filter; a solid one no (u,v) to place.
+            if let Some(key) = ["interp", "filter"].into_iter().find(|k| f.get(k).is_some()) {
+                return Err(Error::scene(f.at(key), "applies to bump tables (map or generator) only"));
+            }
+            let placed = ["repeat", "offset", "rotate", "mapping"];
+            if let Some(key) = placed.into_iter().find(|k| pattern.space == Space::Object && f.get(k).is_some()) {
+                return Err(Error::scene(f.at(key), "applies to tables and space = \"uv\" patterns only"));
+            }
+            BumpSource::Procedural(Arc::new(pattern))
+        }
+    };
     Ok(BumpMap {
-        source: match image {
-            Source::Image(image) => BumpSource::Table(Arc::new(BumpTable::new(&image))),
-            Source::Procedural(p) => BumpSource::Procedural(Arc::new(procedural::parse_bump(&f.at("procedural"), p)?)),
-        },
+        source,
         scale: f.number_or("scale", 0.05)?,
         mapping: parse_mapping(&f.at("mapping"), f.get("mapping"), uv_transform(&f)?)?,
         formula,
@@ -537,7 +562,7 @@ fn parse_generator(path: &str, v: &Value) -> Result<crate::image::GreyImage> {
         other => {
             return Err(Error::scene(
                 f.at("kind"),
-                format!("expected one of \"grid\", \"text\", \"rivets\", \"bricks\", got \"{other}\""),
+                format!("expected one of \"grid\", \"text\", \"rivets\", \"bricks\", got {}", quoted(other)),
             ))
         }
     };

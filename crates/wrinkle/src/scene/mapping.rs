@@ -1,7 +1,7 @@
 //! A texture's or bump's `mapping = { type = "...", ... }` (docs/scene-format.md, "Mappings"): which
 //! projection gives the texture coordinates, and where it sits on the object (`placement`).
 
-use super::fields::{numbers, points, Fields};
+use super::fields::{numbers, points, quoted, Fields};
 use super::load::parse_transform;
 use crate::mapping::polygon::{QuadMapping, TriangleMapping};
 use crate::mapping::projection::{Projector, SphereRange, Surface};
@@ -33,7 +33,7 @@ pub fn parse_mapping(path: &str, v: Option<&Value>, transform: UvTransform) -> R
     let kind = f.required("type", f.string("type")?)?;
     let Some(&(_, own)) = TYPES.iter().find(|(name, _)| *name == kind) else {
         let names = TYPES.iter().map(|(n, _)| format!("\"{n}\"")).collect::<Vec<_>>().join(", ");
-        return Err(Error::scene(f.at("type"), format!("expected one of {names}, got \"{kind}\"")));
+        return Err(Error::scene(f.at("type"), format!("expected one of {names}, got {}", quoted(kind))));
     };
     f.only_of_kind(&FIELDS[1..], own, &format!("mapping type \"{kind}\""))?;
     let range = || -> Result<SphereRange> {

@@ -5,7 +5,7 @@
 //! Every field of the pattern is optional; the default space is "object" (a solid texture).
 //! And hypertextures: `[[volume]]` tables with their `[[volume.modulate]]` functions.
 
-use super::fields::{vec3_value, Fields};
+use super::fields::{quoted, vec3_value, Fields};
 use crate::procedural::effects::{Kind, Params, Pattern};
 use crate::procedural::fbm::Sum;
 use crate::procedural::hypertexture::{Hypertexture, Modulation, Shading};
@@ -32,6 +32,26 @@ const PATTERN_FIELDS: &[&str] = &[
     "colors",
 ];
 
+/// The noise's fields (`seed`, `variant`), then its sums' (`octaves`, `lacunarity`, `gain`).
+const NOISE_FIELDS: &[&str] = &["seed", "variant", "octaves", "lacunarity", "gain"];
+
+/// The fields a pattern reads (`Kind::describe`): `space`, `scale` and `colors`, those of its noise and
+/// sums, and its own.
+fn pattern_fields(kind: Kind) -> Vec<&'static str> {
+    let (noise, own): (&[&str], &[&str]) = match kind {
+        Kind::Noise => (&NOISE_FIELDS[..2], &[]),
+        Kind::Fbm | Kind::Turbulence => (NOISE_FIELDS, &[]),
+        Kind::Marble => (NOISE_FIELDS, &["strength"]),
+        Kind::Wood => (NOISE_FIELDS, &["rings", "strength"]),
+        Kind::Fire => (NOISE_FIELDS, &["strength", "time"]),
+        Kind::Clouds => (NOISE_FIELDS, &["time"]),
+        Kind::Bricks => (&[], &["mortar"]),
+        Kind::Checker => (&[], &[]),
+        Kind::Grid => (&[], &["line_width"]),
+    };
+    ["space", "scale", "colors"].iter().chain(noise).chain(own).copied().collect()
+}
+
 /// Whether a texture table names a procedural pattern.
 pub fn is_procedural(v: &Value) -> bool {
     v.as_table().is_some_and(|t| t.contains_key("procedural"))
@@ -48,6 +68,9 @@ pub fn parse_texture(path: &str, v: &Value) -> Result<Procedural> {
 pub fn parse_bump(path: &str, v: &Value) -> Result<Procedural> {
     let known: Vec<&str> = std::iter::once("pattern").chain(PATTERN_FIELDS.iter().copied()).collect();
     let f = Fields::new(path, v, &known)?;
+    if f.get("colors").is_some() {
+        return Err(Error::scene(f.at("colors"), "applies to textures only (a bump reads the pattern's value)"));
+    }
     parse_pattern(&f, "pattern")
 }
 
@@ -55,8 +78,9 @@ fn parse_pattern(f: &Fields, name_key: &str) -> Result<Procedural> {
     let name = f.required(name_key, f.string(name_key)?)?;
     let kind = Kind::from_name(name).ok_or_else(|| {
         let names: Vec<String> = Kind::ALL.iter().map(|k| format!("\"{}\"", k.name())).collect();
-        Error::scene(f.at(name_key), format!("expected one of {}, got \"{name}\"", names.join(", ")))
+        Error::scene(f.at(name_key), format!("expected one of {}, got {}", names.join(", "), quoted(name)))
     })?;
+    f.only_of_kind(PATTERN_FIELDS, &pattern_fields(kind), &format!("pattern \"{name}\""))?;
     let space = f.choice("space", Space::Object, &[("object", Space::Object), ("uv", Space::Uv)])?;
     let mut p = Params::new(kind);
     p.scale = f.number_or("scale", p.scale)?;
@@ -104,7 +128,14 @@ pub fn parse_volume(path: &str, v: &Value) -> Result<Hypertexture> {
         (_, Some(r)) => r,
         _ => Vec3::splat(f.number_where("radius", Some(1.0), positive, "a positive radius")?),
     };
-    let shading = match f.choice("shading", "lit", &[("lit", "lit"), ("emissive", "emissive")])? {
+    let mode = f.choice("shading", "lit", &[("lit", "lit"), ("emissive", "emissive")])?;
+    // The fields of the other shading.
+    let (other, owner) =
+        if mode == "lit" { (["colors", "emission"].as_slice(), "emissive") } else { (&["color"][..], "lit") };
+    if let Some(key) = other.iter().find(|k| f.get(k).is_some()) {
+        return Err(Error::scene(f.at(key), format!("applies to shading = \"{owner}\" only")));
+    }
+    let shading = match mode {
         "lit" => {
             let c = f.vec3("color")?.unwrap_or(Vec3::splat(0.8));
             if c.min_element() < 0.0 {
@@ -137,18 +168,29 @@ pub fn parse_volume(path: &str, v: &Value) -> Result<Hypertexture> {
     })
 }
 
+/// The fields of a modulation table: its kind, then the parameters of every kind.
+const MODULATION_FIELDS: &[&str] = &["kind", "value", "amplitude", "frequency", "octaves", "seed", "drift"];
+
 fn parse_modulation(path: &str, v: &Value) -> Result<Modulation> {
-    let f = Fields::new(path, v, &["kind", "value", "amplitude", "frequency", "octaves", "seed", "drift"])?;
+    let f = Fields::new(path, v, MODULATION_FIELDS)?;
     let kind = f.required("kind", f.string("kind")?)?;
+    let own: &[&str] = match kind {
+        "bias" | "gain" => &["value"],
+        // Noise is one octave.
+        "noise" => &["amplitude", "frequency", "seed", "drift"],
+        "fbm" | "turbulence" => &MODULATION_FIELDS[2..],
+        _ => &[],
+    };
+    if !own.is_empty() {
+        f.only_of_kind(&MODULATION_FIELDS[1..], own, &format!("kind \"{kind}\""))?;
+    }
     let fraction = |x: f32| x > 0.0 && x < 1.0;
     match kind {
         "bias" | "gain" => {
-            f.only_of_kind(&["amplitude", "frequency", "octaves", "seed", "drift"], &[], &format!("kind \"{kind}\""))?;
             let b = f.number_where("value", None, fraction, "a number between 0 and 1")?;
             Ok(if kind == "bias" { Modulation::Bias(b) } else { Modulation::Gain(b) })
         }
         "noise" | "fbm" | "turbulence" => {
-            f.only_of_kind(&["value"], &[], &format!("kind \"{kind}\""))?;
             let sum = if kind == "turbulence" { Sum::Turbulence } else { Sum::Fbm };
             let octaves = if kind == "noise" { 1 } else { f.integer_where("octaves", 5, 1, 24)? as u32 };
             Ok(Modulation::noise(
@@ -162,7 +204,7 @@ fn parse_modulation(path: &str, v: &Value) -> Result<Modulation> {
         }
         other => Err(Error::scene(
             f.at("kind"),
-            format!("expected one of \"bias\", \"gain\", \"noise\", \"fbm\", \"turbulence\", got \"{other}\""),
+            format!("expected one of \"bias\", \"gain\", \"noise\", \"fbm\", \"turbulence\", got {}", quoted(other)),
         )),
     }
 }

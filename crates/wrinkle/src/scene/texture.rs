@@ -2,7 +2,7 @@
 //! material) or `texture = { path, filter, wrap, border, srgb, repeat, offset, rotate, mipmap, level,
 //! max_aniso }`.
 
-use super::fields::{numbers, Fields};
+use super::fields::{describe, numbers, Fields};
 use super::load::{resolve, uv_transform};
 use super::mapping::parse_mapping;
 use crate::bump::normal_map::Convention;
@@ -75,6 +75,10 @@ fn parse_texture_with(
     extra: &[&str],
 ) -> Result<MappedTexture> {
     if super::procedural::is_procedural(v) {
+        if role == Role::Colour && material.get("filter").is_some() {
+            // Patterns are band-limited to the footprint by their own sums, not filtered.
+            return Err(Error::scene(material.at("filter"), "applies to image textures only, not to a procedural one"));
+        }
         let texture = Arc::new(super::procedural::parse_texture(path, v)?);
         return Ok(MappedTexture { texture, mapping: Mapping::default() });
     }
@@ -83,10 +87,11 @@ fn parse_texture_with(
         Role::Data => None,
     };
     let srgb_default = role == Role::Colour;
-    let (file, options, srgb, mapping) = match v {
+    let (file, file_field, options, srgb, mapping) = match v {
         Value::String(s) => {
             let filter = FilterOptions { filter: beside.unwrap_or(Filter::Trilinear), ..FilterOptions::default() };
-            (s.as_str(), TextureOptions { filter, ..TextureOptions::default() }, srgb_default, Mapping::default())
+            let options = TextureOptions { filter, ..TextureOptions::default() };
+            (s.as_str(), path.to_string(), options, srgb_default, Mapping::default())
         }
         _ => {
             let f = Fields::new(path, v, &[TEXTURE_FIELDS, extra].concat())?;
@@ -112,17 +117,18 @@ fn parse_texture_with(
                 )?,
                 ..FilterOptions::default()
             };
+            let wrap = wrap(&f)?;
             let options = TextureOptions {
-                wrap: wrap(&f)?,
-                border: border(&f)?,
+                wrap,
+                border: border(&f, wrap)?,
                 mip_filter: f.choice("mipmap", MipFilter::Box, &MipFilter::NAMES)?,
                 filter,
             };
             let mapping = parse_mapping(&f.at("mapping"), f.get("mapping"), uv_transform(&f)?)?;
-            (file, options, f.boolean("srgb", srgb_default)?, mapping)
+            (file, f.at("path"), options, f.boolean("srgb", srgb_default)?, mapping)
         }
     };
-    let texture = Arc::new(load_texture(&resolve(base, file), srgb, options)?);
+    let texture = Arc::new(load_texture(&resolve(base, &file_field, file)?, srgb, options)?);
     Ok(MappedTexture { texture, mapping })
 }
 
@@ -143,7 +149,8 @@ fn wrap(f: &Fields) -> Result<[Wrap; 2]> {
     let names = || Wrap::NAMES.iter().map(|(n, _)| format!("\"{n}\"")).collect::<Vec<_>>().join(", ");
     let one = |v: &Value| -> Result<Wrap> {
         v.as_str().and_then(Wrap::parse).ok_or_else(|| {
-            Error::scene(f.at("wrap"), format!("expected one of {} (or two of them as [u, v]), got {v}", names()))
+            let got = describe(v);
+            Error::scene(f.at("wrap"), format!("expected one of {} (or two of them as [u, v]), got {got}", names()))
         })
     };
     match f.get("wrap") {
@@ -153,9 +160,13 @@ fn wrap(f: &Fields) -> Result<[Wrap; 2]> {
     }
 }
 
-/// The border colour, linear RGB or RGBA (alpha 1 when left out), components in [0, 1].
-fn border(f: &Fields) -> Result<Vec4> {
+/// The border colour, linear RGB or RGBA (alpha 1 when left out), components in [0, 1]; only where an axis
+/// wraps to the border.
+fn border(f: &Fields, wrap: [Wrap; 2]) -> Result<Vec4> {
     let Some(v) = f.get("border") else { return Ok(Vec4::ZERO) };
+    if !wrap.contains(&Wrap::Border) {
+        return Err(Error::scene(f.at("border"), "applies to wrap = \"border\" only"));
+    }
     let n = v.as_array().map_or(0, |a| a.len());
     let c = numbers(&f.at("border"), v, if n == 4 { 4 } else { 3 })?;
     if c.iter().any(|x| !(0.0..=1.0).contains(x)) {

@@ -18,7 +18,7 @@
 
 use super::reconstruct::{bilinear, Addressing};
 use super::texel::{Texel, TexelSource};
-use super::Footprint;
+use super::{Footprint, Wrap};
 use crate::lanes::{lane_index, F8, I8, LANES};
 use glam::Vec2;
 use std::sync::OnceLock;
@@ -36,6 +36,22 @@ const TABLE_SIZE: usize = 256;
 const SPAN_SLACK: f32 = 0.01;
 /// Q times this is the table index.
 const Q_TO_INDEX: f32 = TABLE_SIZE as f32 / (RADIUS * RADIUS);
+/// The farthest an ellipse's centre is placed from the origin, in texels.
+const FAR: f32 = (1 << 24) as f32;
+
+/// The most texels one lookup reads, whatever the footprint. On the level read the ellipse's axes are at
+/// most 2 `max_aniso` texels: the minor axis is one to two texels there and the eccentricity clamp keeps
+/// the major within `max_aniso` of it, and a footprint beyond the coarsest level is squeezed or shrunk
+/// to fit (`Ellipse::on_level`). The Gaussian's covariance then has no eigenvalue above
+/// (2 PIXEL_SIGMA max_aniso)^2 + RECON_SIGMA^2, so the cut-off ellipse lies in a square of side 2 H with
+/// H = RADIUS sqrt of that, which holds at most (floor(2 H) + 1)^2 texels: 2401 for `max_aniso` = 16,
+/// 37249 for 64. (The spans read the ellipse, not its box: about 85 texels for 16:1, at most 142.)
+pub fn max_texels(max_aniso: f32) -> usize {
+    let major = 2.0 * PIXEL_SIGMA * max_aniso;
+    let h = RADIUS * (major * major + RECON_SIGMA * RECON_SIGMA).sqrt();
+    let side = (2.0 * h).floor() as usize + 1;
+    side * side
+}
 
 /// Heckbert's conic A u^2 + B u v + C v^2 = F of the image of the unit circle.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -169,8 +185,9 @@ struct Ellipse {
 }
 
 impl Ellipse {
-    /// The level whose texels the footprint's minor axis covers one to two of, and the ellipse on it;
-    /// `None` for a footprint with no finite extent.
+    /// The level whose texels the footprint's minor axis covers one to two of (the coarsest for larger
+    /// footprints), and the ellipse on it, within `max_texels`; `None` for a footprint with no finite
+    /// extent (infinite or NaN derivatives).
     fn on_level<S: TexelSource>(
         levels: &[S],
         addr: &Addressing<S::Texel>,
@@ -184,23 +201,41 @@ impl Ellipse {
         if !(axes.major.is_finite()) {
             return None;
         }
-        // The level where the minor axis is one to two texels: the ellipse then covers at most about
-        // 2 x 2 max_aniso texels per standard deviation squared, whatever the footprint.
+        // The level where the minor axis is one to two texels, so the major is at most 2 max_aniso.
         let last = levels.len() - 1;
         let level = if axes.minor > 1.0 { (axes.minor.log2() as usize).min(last) } else { 0 };
         let (w, h) = (levels[level].width(), levels[level].height());
-        let (sx, sy) = (w as f32 / w0 as f32, h as f32 / h0 as f32);
+        // This level's texels per texel of level 0, along u and v. Where the level is one texel wide and
+        // shows no border the texture is constant along that axis, so the ellipse's extent there changes
+        // nothing: it is squeezed to two texels. A footprint beyond the coarsest level so reads its
+        // 1 x 1 texel, the texture's mean, with a handful of taps.
+        let (dx, dy) = (axes.dir.x, axes.dir.y);
+        let scale = |n: usize, n0: usize, wrap: Wrap, along: f32, across: f32| {
+            let s = n as f32 / n0 as f32;
+            if n == 1 && wrap != Wrap::Border {
+                // The ellipse reaches this far along the axis, in texels of level 0.
+                s.min(2.0 / (along * axes.major).hypot(across * axes.minor))
+            } else {
+                s
+            }
+        };
+        let (sx, sy) = (scale(w, w0, addr.wrap[0], dx, dy), scale(h, h0, addr.wrap[1], dy, dx));
+        // The work bound (`max_texels`): the axes at most 2 max_aniso texels of this level. The level
+        // choice keeps ordinary footprints within it; this shrinks those that outgrow the coarsest level.
+        let fit = (2.0 * max_aniso / (axes.major * sx.max(sy))).min(1.0);
         // The axis vectors in this level's texels, scaled by the pixel Gaussian.
-        let a1 = Vec2::new(axes.dir.x * sx, axes.dir.y * sy) * (axes.major * PIXEL_SIGMA);
-        let a2 = Vec2::new(-axes.dir.y * sx, axes.dir.x * sy) * (axes.minor * PIXEL_SIGMA);
+        let a1 = Vec2::new(dx * sx, dy * sy) * (axes.major * fit * PIXEL_SIGMA);
+        let a2 = Vec2::new(-dy * sx, dx * sy) * (axes.minor * fit * PIXEL_SIGMA);
         let recon = RECON_SIGMA * RECON_SIGMA;
         let (v11, v12, v22) =
             (a1.x * a1.x + a2.x * a2.x + recon, a1.x * a1.y + a2.x * a2.y, a1.y * a1.y + a2.y * a2.y + recon);
         let conic = Conic::of_covariance(v11, v12, v22);
         // The ellipse Q = R^2 reaches R sqrt(v11) along u and R sqrt(v22) along v.
         let (hx, hy) = (RADIUS * v11.sqrt(), RADIUS * v22.sqrt());
-        let cx = addr.wrap[0].reduce(s) * w as f32 - 0.5;
-        let cy = addr.wrap[1].reduce(t) * h as f32 - 0.5;
+        // Beyond 2^24 texels f32 cannot place a texel; held there (clamp, mirror and border coordinates far
+        // off the texture), every index stays far from overflow.
+        let cx = (addr.wrap[0].reduce(s) * w as f32 - 0.5).clamp(-FAR, FAR);
+        let cy = (addr.wrap[1].reduce(t) * h as f32 - 0.5).clamp(-FAR, FAR);
         let ka = conic.a / conic.f;
         let ellipse = Ellipse {
             cx,
@@ -310,8 +345,9 @@ mod tests {
     use crate::texture::mip::{MipFilter, Resample};
     use crate::texture::rgba8::Rgba8Plane;
     use crate::texture::texel::Plane;
-    use crate::texture::{Filterable, Wrap};
+    use crate::texture::Filterable;
     use glam::Vec4;
+    use std::sync::atomic::{AtomicUsize, Ordering};
 
     /// A circle of radius r in pixels maps, through J, onto Heckbert's ellipse A u^2 + B u v + C v^2 = F r^2.
     #[test]
@@ -407,6 +443,112 @@ mod tests {
             let got = sample(data.levels(), &addr, s, t, &fp, 16.0);
             let want = brute_force(data.levels(), &addr, s, t, &fp);
             assert!((got - want).abs().max_element() < 1e-5, "{wrap:?} {fp:?} at ({s}, {t}): {got} vs {want}");
+        }
+    }
+
+    /// A source that counts the texels read from it.
+    struct Counting<'a, S> {
+        src: &'a S,
+        reads: AtomicUsize,
+    }
+
+    impl<S: TexelSource> TexelSource for Counting<'_, S> {
+        type Texel = S::Texel;
+        fn width(&self) -> usize {
+            self.src.width()
+        }
+        fn height(&self) -> usize {
+            self.src.height()
+        }
+        fn texel(&self, i: usize, j: usize) -> S::Texel {
+            self.reads.fetch_add(1, Ordering::Relaxed);
+            self.src.texel(i, j)
+        }
+    }
+
+    /// One lookup and the number of texels it read, from every level.
+    fn counted<S: TexelSource>(
+        levels: &[S],
+        addr: &Addressing<S::Texel>,
+        (s, t): (f32, f32),
+        fp: &Footprint,
+        max_aniso: f32,
+    ) -> (S::Texel, usize) {
+        let counting: Vec<_> = levels.iter().map(|src| Counting { src, reads: AtomicUsize::new(0) }).collect();
+        let got = sample(&counting, addr, s, t, fp, max_aniso);
+        (got, counting.iter().map(|c| c.reads.load(Ordering::Relaxed)).sum())
+    }
+
+    /// An n:1 footprint `size` periods across its minor axis, at `angle`.
+    fn footprint(size: f32, ratio: f32, angle: f32) -> Footprint {
+        let (c, sn) = (angle.cos(), angle.sin());
+        Footprint { dudx: ratio * size * c, dvdx: ratio * size * sn, dudy: -size * sn, dvdy: size * c }
+    }
+
+    #[test]
+    fn max_texels_follows_its_formula() {
+        assert_eq!(max_texels(16.0), 49 * 49);
+        assert_eq!(max_texels(64.0), 193 * 193);
+        assert_eq!(max_texels(1.0), 4 * 4);
+    }
+
+    /// Issue 19: a texture repeated 1e5 times across a pixel took EWA forever (the ellipse on the 1 x 1
+    /// level was 1e5 texels wide). Every footprint, from a fraction of a texel to 1e30 periods and beyond
+    /// the eccentricity clamp, reads at most `max_texels`; those beyond the coarsest level read the
+    /// texture's mean (the 1 x 1 level), off a bordered texture a mix of the mean and the border colour.
+    #[test]
+    fn huge_footprints_read_the_mean_within_the_bound() {
+        let mut random = xorshift();
+        let border = Vec4::new(0.9, 0.1, 0.5, 1.0);
+        // A square-ish texture, one whose rows run out of levels first, and a one-texel-wide one.
+        for (w, h) in [(64, 48), (256, 4), (1, 9)] {
+            let texels: Vec<Vec4> = (0..w * h).map(|_| Vec4::new(random(), random(), random(), 1.0)).collect();
+            let mean = texels.iter().copied().sum::<Vec4>() / (w * h) as f32;
+            for wrap in [Wrap::Repeat, Wrap::Clamp, Wrap::Mirror, Wrap::Border] {
+                let plane = Plane { width: w, height: h, texels: texels.clone() };
+                let data = Filterable::new(plane, MipFilter::Box, [wrap; 2]);
+                let addr = Addressing { wrap: [wrap; 2], border };
+                for max_aniso in [1.0, 16.0, 64.0] {
+                    let bound = max_texels(max_aniso);
+                    for k in 0..200 {
+                        // Ordinary footprints: widths from 1/4096 to 8 texels.
+                        let size = 2f32.powf(-12.0 + 15.0 * random()) / w.max(h) as f32;
+                        let fp = footprint(size, 1.0 + 31.0 * random(), 7.0 * random());
+                        let (_, reads) = counted(data.levels(), &addr, (random(), random()), &fp, max_aniso);
+                        assert!(reads <= bound, "{w}x{h} {wrap:?} {fp:?}, {max_aniso}: {reads} > {bound}");
+                        // Beyond the texture: 300 to 1e30 periods across.
+                        let size = [300.0, 1e5, 1e12, 1e30][k % 4];
+                        let fp = footprint(size, [1.0, 8.0, 1000.0][k % 3], 7.0 * random());
+                        let (got, reads) = counted(data.levels(), &addr, (random(), random()), &fp, max_aniso);
+                        assert!(reads <= bound, "{w}x{h} {wrap:?} {fp:?}, {max_aniso}: {reads} > {bound}");
+                        if wrap == Wrap::Border {
+                            let (lo, hi) = (mean.min(border), mean.max(border));
+                            assert!(got.cmpge(lo - 1e-4).all() && got.cmple(hi + 1e-4).all(), "{got} {mean}");
+                        } else {
+                            // A handful of taps on the 1 x 1 level.
+                            assert!(reads <= 16, "{w}x{h} {wrap:?} {fp:?}: {reads} texels");
+                            let err = (got - mean).abs().max_element();
+                            assert!(err < 1e-4, "{w}x{h} {wrap:?} {fp:?}: {got} vs the mean {mean}");
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// NaN and infinite derivatives end at once, on the coarsest level (no loop over an unbounded box).
+    #[test]
+    fn non_finite_footprints_read_the_coarsest_level() {
+        let texels: Vec<Vec4> = (0..64 * 48).map(|k| Vec4::splat((k % 7) as f32 / 6.0)).collect();
+        let mean = texels.iter().copied().sum::<Vec4>() / texels.len() as f32;
+        let data = Filterable::new(Plane { width: 64, height: 48, texels }, MipFilter::Box, [Wrap::Repeat; 2]);
+        let addr = Addressing::repeat();
+        for x in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, f32::MAX] {
+            for fp in [Footprint { dudx: x, ..footprint(0.01, 2.0, 0.3) }, footprint(x, 1.0, 0.0)] {
+                let (got, reads) = counted(data.levels(), &addr, (0.3, 0.6), &fp, 16.0);
+                assert!(reads <= 16, "{fp:?}: {reads} texels");
+                assert!((got - mean).abs().max_element() < 1e-4, "{fp:?}: {got} vs {mean}");
+            }
         }
     }
 

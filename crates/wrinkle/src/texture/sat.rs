@@ -118,10 +118,17 @@ impl<W: Copy + Default + std::ops::Add<Output = W> + std::ops::Sub<Output = W> +
     }
 }
 
+/// The longest footprint axis component a box is made from, in texels. A box that long over a 32768-texel
+/// texture holds 2^25 periods, so its mean is the texture's to 3e-8, and f64 still places its edges to
+/// 2^-12 texels; longer (or infinite) footprints would overflow the area in f32 and make the sums NaN.
+const LONGEST: f32 = (1u64 << 40) as f32;
+
 /// The slides' box for a footprint in texels: the aspect ratio of the footprint's bounding box and the
-/// area of the pixel's parallelogram, at least one texel on each side (so magnification is bilinear).
+/// area of the pixel's parallelogram, at least one texel on each side (so magnification is bilinear) and,
+/// the components held to `LONGEST`, at most 2 `LONGEST`.
 #[inline]
 pub fn box_size(ux: f32, vx: f32, uy: f32, vy: f32) -> (f32, f32) {
+    let [ux, vx, uy, vy] = [ux, vx, uy, vy].map(|d| d.clamp(-LONGEST, LONGEST));
     let (ex, ey) = (ux.abs() + uy.abs(), vx.abs() + vy.abs());
     let area = (ux * vy - uy * vx).abs();
     let (bx, by) = if ex > 0.0 && ey > 0.0 && area > 0.0 {
