@@ -6,7 +6,7 @@ use std::fs::{self, File};
 use std::io::{self, BufReader, Cursor};
 use std::path::Path;
 
-use ::image::{DynamicImage, ImageDecoder, ImageError, ImageFormat, ImageReader};
+use ::image::{ColorType, DynamicImage, ImageDecoder, ImageError, ImageFormat, ImageReader};
 use exr::prelude::{
     AnyChannel, AnyChannels, Encoding, FlatSamples, Layer, LayerAttributes, ReadChannels, ReadLayers, Text,
     WritableImage,
@@ -44,7 +44,8 @@ pub fn load_grey(path: &Path) -> Result<GreyImage> {
     if let Some(grey) = load_tiff_grey_f32(path) {
         return grey;
     }
-    let img = decode(path, 16)?;
+    // Grey f32 out; colour types without flat samples of their own go through RGB f32 first.
+    let img = decode(path, |c| if matches!(c, ColorType::L8 | ColorType::L16 | ColorType::Rgb8 | ColorType::Rgba8) { 4 } else { 16 })?;
     let channels = usize::from(img.color().channel_count());
     let pixels = if let Some(s) = img.as_flat_samples_u8() {
         grey_pixels(s.samples, channels, 255.0)
@@ -62,7 +63,7 @@ pub fn load_grey(path: &Path) -> Result<GreyImage> {
 /// formats as [`load_grey`]. 16-bit samples are rounded to 8 bits, grey is copied to R, G and B,
 /// and alpha is 255 where the file has none.
 pub fn load_rgba8(path: &Path) -> Result<Image<[u8; 4]>> {
-    let rgba = decode(path, 8)?.into_rgba8();
+    let rgba = decode(path, |_| 8)?.into_rgba8();
     let (width, height) = (rgba.width() as usize, rgba.height() as usize);
     let pixels = rgba.pixels().map(|p| p.0).collect();
     Ok(Image { width, height, pixels })
@@ -87,9 +88,14 @@ pub fn load_texels(path: &Path, srgb: bool) -> Result<Texels> {
         let pixels = grey.pixels.iter().map(|&g| [g, g, g, 1.0]).collect();
         return Ok(Texels::Linear(Image { width: grey.width, height: grey.height, pixels }));
     }
-    let img = decode(path, 32)?;
+    // RGBA bytes (twice: converted, then collected), or RGBA f32 (likewise), or 16-bit then f32.
+    let img = decode(path, |c| match c.bytes_per_pixel() / c.channel_count() {
+        1 => 8,
+        2 => 24,
+        _ => 32,
+    })?;
     let (width, height) = (img.width() as usize, img.height() as usize);
-    let float = matches!(img.color(), ::image::ColorType::Rgb32F | ::image::ColorType::Rgba32F);
+    let float = matches!(img.color(), ColorType::Rgb32F | ColorType::Rgba32F);
     Ok(if float {
         Texels::Linear(Image { width, height, pixels: img.into_rgba32f().pixels().map(|p| p.0).collect() })
     } else if img.color().bytes_per_pixel() / img.color().channel_count() == 1 {
@@ -286,9 +292,9 @@ pub fn read_exr_channels(path: &Path) -> Result<(usize, usize, Vec<(String, Vec<
 }
 
 /// Opens and decodes an image file, refusing empty, oversized and cut-short images before decoding pixels,
-/// and images whose decoding, with `converted_per_pixel` more bytes per pixel for the caller's conversion,
-/// would not fit in the memory budget.
-pub(crate) fn decode(path: &Path, converted_per_pixel: u64) -> Result<DynamicImage> {
+/// and images whose decoding, with `converted_per_pixel(colour type)` more bytes per pixel for the caller's
+/// conversion, would not fit in the memory budget.
+pub(crate) fn decode(path: &Path, converted_per_pixel: impl FnOnce(ColorType) -> u64) -> Result<DynamicImage> {
     let mut reader = ImageReader::new(BufReader::new(open_input(path)?));
     if let Ok(format) = ImageFormat::from_path(path) {
         reader.set_format(format);
@@ -304,7 +310,8 @@ pub(crate) fn decode(path: &Path, converted_per_pixel: u64) -> Result<DynamicIma
         check_jpeg_complete(path)?;
     }
     let pixels = u64::from(width) * u64::from(height);
-    limits::reserve(decoder.total_bytes() + pixels * converted_per_pixel, || {
+    let converted = converted_per_pixel(decoder.color_type());
+    limits::reserve(decoder.total_bytes() + pixels * converted, || {
         format!("{}: decoding its {width}x{height} pixels", path.display())
     })?;
     DynamicImage::from_decoder(decoder).map_err(|e| decode_error(path, format, e))

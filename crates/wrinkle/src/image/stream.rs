@@ -79,7 +79,7 @@ impl ImageRows {
             let (w, h) = dims.into_dimensions().map_err(|e| decode_error(path, format, e))?;
             check_side(path, w as usize, h as usize)?;
         }
-        Self::in_memory(path, decode(path, 8)?)
+        Self::in_memory(path, decode(path, |_| 8)?)
     }
 
     /// Rows of an 8-bit RGB image held in memory (3 bytes per pixel, row 0 at the top); `path` names it in

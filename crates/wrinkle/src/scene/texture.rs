@@ -8,6 +8,7 @@ use super::mapping::parse_mapping;
 use crate::bump::normal_map::Convention;
 use crate::bump::TangentNormalMap;
 use crate::image::io;
+use crate::limits;
 use crate::mapping::{MappedTexture, Mapping};
 use crate::texture::{Filter, FilterOptions, FilteredTexture, LevelRule, MipFilter, TextureOptions, Wrap};
 use crate::{Error, Result};
@@ -134,7 +135,22 @@ fn parse_texture_with(
 
 /// An image file as a filtered texture.
 pub fn load_texture(file: &Path, srgb: bool, options: TextureOptions) -> Result<FilteredTexture> {
-    Ok(match io::load_texels(file, srgb)? {
+    let texels = io::load_texels(file, srgb)?;
+    let (width, height, bytes8) = match &texels {
+        io::Texels::Rgba8(image) => (image.width, image.height, true),
+        io::Texels::Linear(image) => (image.width, image.height, false),
+    };
+    // The pyramid (built in f32 for 8-bit texels too, 4/3 of the base), and what the filter builds on first
+    // use beside it: a ripmap (4 times the base) or a summed-area table (four f64 sums a texel).
+    let per_texel: u64 = match options.filter.filter {
+        Filter::Ripmap => 16 * 4,
+        Filter::Sat => 32,
+        _ => 0,
+    } + if bytes8 { 16 * 4 / 3 + 4 * 4 / 3 } else { 16 * 4 / 3 };
+    limits::reserve((width * height) as u64 * per_texel, || {
+        format!("{}: a {width}x{height} texture with its {} filter", file.display(), options.filter.filter.name())
+    })?;
+    Ok(match texels {
         io::Texels::Rgba8(image) => FilteredTexture::from_rgba8(&image, srgb, options),
         io::Texels::Linear(image) => FilteredTexture::new(&image, options),
     })
