@@ -25,7 +25,7 @@ use std::sync::Arc;
 
 /// Every primitive of the file's default scene (or its first), placed by its node's world transform.
 pub fn load(path: &Path) -> Result<Vec<ModelPart>> {
-    let (document, buffers, images) = gltf::import(path).map_err(|e| Error::read(path, gltf_error(&e)))?;
+    let (document, buffers, images) = import(path)?;
     let fail = |m: String| Error::read(path, m);
     let scene =
         document.default_scene().or_else(|| document.scenes().next()).ok_or_else(|| fail("has no scene".into()))?;
@@ -80,6 +80,48 @@ pub fn load(path: &Path) -> Result<Vec<ModelPart>> {
         return Err(fail("has no meshes in its scene".into()));
     }
     Ok(parts)
+}
+
+/// `gltf::import` with what it does not check first: the file and every file it names must be regular files
+/// (a buffer at /dev/zero would be read forever), and every primitive's attributes must name accessors that
+/// exist (gltf-json's validation indexes POSITION's accessor unchecked).
+fn import(path: &Path) -> Result<(gltf::Document, Vec<gltf::buffer::Data>, Vec<gltf::image::Data>)> {
+    use gltf::json::validation::Validate;
+    crate::image::io::check_input(path)?;
+    let bytes = std::fs::read(path).map_err(|e| Error::read(path, crate::image::io::open_message(&e)))?;
+    let fail = |m: String| Error::read(path, m);
+    let gltf = gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| fail(gltf_error(&e)))?;
+    let root = gltf.document.as_json();
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            if let Some((_, index)) = primitive.attributes.iter().find(|(_, a)| a.value() >= root.accessors.len()) {
+                return Err(fail(format!(
+                    "malformed glTF: meshes[{m}].primitives[{p}] names accessor {}, of {}",
+                    index.value(),
+                    root.accessors.len()
+                )));
+            }
+        }
+    }
+    let mut problem = None;
+    root.validate(root, gltf::json::Path::new, &mut |at, error| {
+        problem.get_or_insert_with(|| format!("malformed glTF: {}: {error}", at()));
+    });
+    if let Some(problem) = problem {
+        return Err(fail(problem));
+    }
+    let base = path.parent().unwrap_or(Path::new("."));
+    let uris = root.buffers.iter().filter_map(|b| b.uri.as_deref()).chain(root.images.iter().filter_map(|i| i.uri.as_deref()));
+    for uri in uris.filter(|u| !u.starts_with("data:") && !u.contains("://")) {
+        let file = base.join(uri);
+        if file.exists() {
+            crate::image::io::check_input(&file).map_err(|e| fail(format!("the file it names: {e}")))?;
+        }
+    }
+    let gltf::Gltf { document, blob } = gltf;
+    let buffers = gltf::import_buffers(&document, Some(base), blob).map_err(|e| fail(gltf_error(&e)))?;
+    let images = gltf::import_images(&document, Some(base), &buffers).map_err(|e| fail(gltf_error(&e)))?;
+    Ok((document, buffers, images))
 }
 
 fn gltf_error(e: &gltf::Error) -> String {

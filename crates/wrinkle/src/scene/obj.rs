@@ -18,16 +18,44 @@ use glam::{Vec2, Vec3};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+/// A .mtl file for tobj, with what tobj does not check first: it must be a regular file (a library at
+/// /dev/zero would be read forever), and Ka, Kd, Ks and Ke need three numbers (tobj panics on fewer).
+fn read_library(file: &Path) -> std::result::Result<tobj::MTLLoadResult, String> {
+    io::check_input(file).map_err(|e| e.to_string())?;
+    let text = std::fs::read_to_string(file).map_err(|e| format!("{}: {e}", file.display()))?;
+    for (n, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        if let Some(key @ ("Ka" | "Kd" | "Ks" | "Ke")) = words.next() {
+            if words.count() < 3 {
+                return Err(format!("{}: line {}: {key} needs three numbers", file.display(), n + 1));
+            }
+        }
+    }
+    Ok(tobj::load_mtl_buf(&mut text.as_bytes()))
+}
+
 /// The meshes of an OBJ file, one per object and material, with the materials of its .mtl.
 pub fn load(path: &Path) -> Result<Vec<ModelPart>> {
     let options = tobj::LoadOptions { single_index: true, triangulate: true, ..tobj::LoadOptions::default() };
-    let (models, materials) = tobj::load_obj(path, &options).map_err(|e| Error::read(path, obj_error(&e)))?;
     let dir = path.parent().unwrap_or(Path::new("."));
+    let mut reader = std::io::BufReader::new(io::open_input(path)?);
+    // Why the material library was refused, when it was for a reason tobj's errors cannot carry.
+    let library_problem = std::cell::RefCell::new(None);
+    let (models, materials) = tobj::load_obj_buf(&mut reader, &options, |name| {
+        read_library(&dir.join(name)).map_err(|problem| {
+            *library_problem.borrow_mut() = Some(problem);
+            tobj::LoadError::OpenFileFailed
+        })?
+    })
+    .map_err(|e| Error::read(path, obj_error(&e)))?;
     let materials = match materials {
         Ok(m) => m,
         // A missing .mtl is an error only when a face asks for one of its materials.
         Err(_) if models.iter().all(|m| m.mesh.material_id.is_none()) => Vec::new(),
-        Err(e) => return Err(Error::read(path, format!("its material library: {}", obj_error(&e)))),
+        Err(e) => {
+            let why = library_problem.take().unwrap_or_else(|| obj_error(&e));
+            return Err(Error::read(path, format!("its material library: {why}")));
+        }
     };
     let materials = materials
         .iter()
@@ -205,7 +233,8 @@ impl MapSpec {
                 other => return Err(format!("unknown texture option {other}")),
             }
         }
-        let file = words[k..].join(" ");
+        // An option's arguments may run past the end (`-mm 0` with nothing after it).
+        let file = words.get(k..).map_or_else(String::new, |rest| rest.join(" "));
         if file.is_empty() {
             return Err("a texture statement names no file".into());
         }
