@@ -1,0 +1,7 @@
+//! The `gltf` target: its body is `targets::gltf` (fuzz/targets.rs), shared with the stable harness.
+#![no_main]
+
+#[path = "../targets.rs"]
+mod targets;
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| targets::gltf(data));

@@ -1,0 +1,7 @@
+//! The `image_tga` target: its body is `targets::image_tga` (fuzz/targets.rs), shared with the stable harness.
+#![no_main]
+
+#[path = "../targets.rs"]
+mod targets;
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| targets::image_tga(data));
