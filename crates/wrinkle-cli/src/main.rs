@@ -106,20 +106,21 @@ fn run_cli() -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let result = cli.limits.iter().try_for_each(|arg| wrinkle::limits::set_from_arg(arg)).and_then(|()| match &cli.command {
-        Command::Render(a) => render::run(a),
-        Command::Bumpgen(a) => bumpgen::run(a),
-        Command::Bench(a) => bench::run(a),
-        Command::Emboss(a) => emboss::run(a),
-        Command::Bump(a) => bump_image::run(a),
-        Command::Normalmap(a) => normalmap::run(a),
-        Command::Heightmap(a) => heightmap::run(a),
-        Command::Filters(a) => filters::run(a),
-        Command::Mipmap(a) => mipmap::run(a),
-        Command::BenchTexture(a) => bench_texture::run(a),
-        Command::BenchNoise(a) => bench_noise::run(a),
-        Command::Texture(a) => texture::run(a),
-    });
+    let result =
+        cli.limits.iter().try_for_each(|arg| wrinkle::limits::set_from_arg(arg)).and_then(|()| match &cli.command {
+            Command::Render(a) => render::run(a),
+            Command::Bumpgen(a) => bumpgen::run(a),
+            Command::Bench(a) => bench::run(a),
+            Command::Emboss(a) => emboss::run(a),
+            Command::Bump(a) => bump_image::run(a),
+            Command::Normalmap(a) => normalmap::run(a),
+            Command::Heightmap(a) => heightmap::run(a),
+            Command::Filters(a) => filters::run(a),
+            Command::Mipmap(a) => mipmap::run(a),
+            Command::BenchTexture(a) => bench_texture::run(a),
+            Command::BenchNoise(a) => bench_noise::run(a),
+            Command::Texture(a) => texture::run(a),
+        });
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

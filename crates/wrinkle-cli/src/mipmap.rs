@@ -1,12 +1,12 @@
 //! `wrinkle mipmap`: a texture's MIP pyramid, built in linear light, written as one atlas PNG or one
 //! PNG per level.
 
+use crate::output::require_extension;
 use clap::Args;
 use glam::Vec4;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use wrinkle::image::color::SrgbEncoder;
-use crate::output::require_extension;
 use wrinkle::image::io;
 use wrinkle::image::output::OutputSet;
 use wrinkle::limits;

@@ -1,12 +1,12 @@
 //! `wrinkle render`: one frame, or a turntable animation of numbered frames.
 
 use crate::output::{format_of, stage_outputs};
-use wrinkle::image::output::OutputSet;
 use clap::builder::PossibleValuesParser;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use wrinkle::bump::function::filter_choices;
+use wrinkle::image::output::OutputSet;
 use wrinkle::render::Aovs;
 use wrinkle::texture::reconstruct::Kernel;
 use wrinkle::texture::Filter;

@@ -2,10 +2,10 @@
 
 use crate::output::{format_of, Format};
 use clap::Args;
+use rayon::prelude::*;
 use std::path::PathBuf;
 use wrinkle::image::color::linear_to_srgb;
 use wrinkle::image::io;
-use rayon::prelude::*;
 use wrinkle::image::stream::{write_rows, PngCompression, RowFormat};
 use wrinkle::procedural::bake::bake_rows;
 use wrinkle::procedural::effects::{spline, Kind, Params, Pattern};
@@ -218,4 +218,3 @@ pub fn run(args: &TextureArgs) -> Result<()> {
     );
     Ok(())
 }
-

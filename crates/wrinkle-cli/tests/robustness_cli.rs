@@ -53,11 +53,23 @@ fn work_beyond_the_memory_budget_is_refused_up_front_and_the_flag_raises_it() {
 #[test]
 fn many_large_bump_tables_stop_at_the_budget_naming_the_object() {
     let s = Scratch::new("tables");
-    let object = "[[object]]\nshape = \"sphere\"\n[object.material.bump]\ngenerator = { kind = \"bricks\", size = 4096 }\n";
+    let object =
+        "[[object]]\nshape = \"sphere\"\n[object.material.bump]\ngenerator = { kind = \"bricks\", size = 4096 }\n";
     let scene = format!("[camera]\neye = [0.0, 0.0, 5.0]\nlook_at = [0.0, 0.0, 0.0]\n{}", object.repeat(40));
     let scene = s.write_input("tables.toml", scene);
     let t = Instant::now();
-    let run = wrinkle(&["render", &scene, "-o", &s.out("r.png"), "--width", "32", "--height", "24", "--limit", "memory=600M"]);
+    let run = wrinkle(&[
+        "render",
+        &scene,
+        "-o",
+        &s.out("r.png"),
+        "--width",
+        "32",
+        "--height",
+        "24",
+        "--limit",
+        "memory=600M",
+    ]);
     assert_one_error(&run, 2, &["].material.bump.generator", "4096-texel bump table needs", "--limit memory=SIZE"], &s);
     // Each table holds about 150 MB: the budget stops the scene after a few of its forty.
     let object: usize = run.stderr["error: objects[".len()..].split(']').next().unwrap().parse().unwrap();

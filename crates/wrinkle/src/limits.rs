@@ -127,7 +127,7 @@ fn parse_size(text: &str, bytes: bool) -> Option<u64> {
         _ => return None,
     };
     let value = number * unit;
-    (value.is_finite() && value >= 1.0 && value < 1.8e19).then_some(value as u64)
+    (1.0..1.8e19).contains(&value).then_some(value as u64)
 }
 
 /// Checks that `bytes` more can be allocated within the memory budget, given what the process holds now;

@@ -32,7 +32,11 @@ impl TriangleMesh {
         }
         let most = Limit::Triangles.count();
         if self.triangles.len() > most {
-            return Err(format!("has {} triangles, more than the {most} allowed ({})", self.triangles.len(), Limit::Triangles.hint()));
+            return Err(format!(
+                "has {} triangles, more than the {most} allowed ({})",
+                self.triangles.len(),
+                Limit::Triangles.hint()
+            ));
         }
         if let Some((t, tri)) = self.triangles.iter().enumerate().find(|(_, t)| t.iter().any(|&k| k as usize >= n)) {
             return Err(format!("triangle {t} has a vertex index out of range ({tri:?}, {n} vertices)"));

@@ -45,7 +45,13 @@ pub fn load_grey(path: &Path) -> Result<GreyImage> {
         return grey;
     }
     // Grey f32 out; colour types without flat samples of their own go through RGB f32 first.
-    let img = decode(path, |c| if matches!(c, ColorType::L8 | ColorType::L16 | ColorType::Rgb8 | ColorType::Rgba8) { 4 } else { 16 })?;
+    let img = decode(path, |c| {
+        if matches!(c, ColorType::L8 | ColorType::L16 | ColorType::Rgb8 | ColorType::Rgba8) {
+            4
+        } else {
+            16
+        }
+    })?;
     let channels = usize::from(img.color().channel_count());
     let pixels = if let Some(s) = img.as_flat_samples_u8() {
         grey_pixels(s.samples, channels, 255.0)
@@ -507,37 +513,8 @@ fn samples_f32(samples: FlatSamples) -> Vec<f32> {
 
 #[cfg(test)]
 mod tests {
+    use super::super::scratch::Scratch;
     use super::*;
-    use std::path::PathBuf;
-
-    /// A fresh folder under the system temp dir, removed when dropped.
-    struct Scratch(PathBuf);
-
-    impl Scratch {
-        fn new(name: &str) -> Self {
-            let dir = std::env::temp_dir().join(format!("wrinkle-io-{}-{name}", std::process::id()));
-            let _ = fs::remove_dir_all(&dir);
-            fs::create_dir_all(&dir).unwrap();
-            Scratch(dir)
-        }
-
-        fn path(&self, file: &str) -> PathBuf {
-            self.0.join(file)
-        }
-
-        fn entries(&self) -> Vec<String> {
-            let mut names: Vec<String> =
-                fs::read_dir(&self.0).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
-            names.sort();
-            names
-        }
-    }
-
-    impl Drop for Scratch {
-        fn drop(&mut self) {
-            let _ = fs::remove_dir_all(&self.0);
-        }
-    }
 
     fn read_message(result: Result<impl std::fmt::Debug>, expected_path: &Path) -> String {
         match result {
@@ -739,10 +716,10 @@ mod tests {
         let grey_path = write("g.tif", &|e| e.write_image::<colortype::Gray32Float>(3, 2, &grey).unwrap());
         let rgb_path = write("c.tif", &|e| e.write_image::<colortype::RGB32Float>(3, 2, &rgb).unwrap());
         assert_eq!(load_grey(&grey_path).unwrap().pixels, grey);
-        for (path, want) in [(&grey_path, grey.iter().map(|&g| [g, g, g, 1.0]).collect::<Vec<_>>()), (
-            &rgb_path,
-            rgb.chunks(3).map(|c| [c[0], c[1], c[2], 1.0]).collect(),
-        )] {
+        for (path, want) in [
+            (&grey_path, grey.iter().map(|&g| [g, g, g, 1.0]).collect::<Vec<_>>()),
+            (&rgb_path, rgb.chunks(3).map(|c| [c[0], c[1], c[2], 1.0]).collect()),
+        ] {
             match load_texels(path, true).unwrap() {
                 Texels::Linear(image) => assert_eq!(image.pixels, want, "{}", path.display()),
                 Texels::Rgba8(_) => panic!("{}: float texels came back as bytes", path.display()),

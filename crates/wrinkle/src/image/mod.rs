@@ -4,6 +4,8 @@ pub mod color;
 pub mod io;
 pub mod output;
 pub mod resample;
+#[cfg(test)]
+mod scratch;
 pub mod stream;
 pub mod strips;
 

@@ -19,7 +19,12 @@ impl Aovs {
     /// Bytes a frame with these AOVs holds per pixel, doubled for the copies that encoding and writing make.
     pub fn bytes_per_pixel(&self) -> u64 {
         let aov = |on: bool, bytes: u64| if on { bytes } else { 0 };
-        2 * (12 + aov(self.normal, 12) + aov(self.uv, 8) + aov(self.depth, 4) + aov(self.id, 4) + aov(self.primitive, 8))
+        2 * (12
+            + aov(self.normal, 12)
+            + aov(self.uv, 8)
+            + aov(self.depth, 4)
+            + aov(self.id, 4)
+            + aov(self.primitive, 8))
     }
 
     pub fn any(&self) -> bool {

@@ -10,6 +10,7 @@ use crate::geometry::tessellate::{grid, segments_for, Mesh};
 use crate::geometry::{Instance, Primitive, TriangleMesh};
 use crate::lanes::{F8, LANES};
 use crate::light::Light;
+use crate::limits::Limit;
 use crate::procedural::hypertexture::Hypertexture;
 use crate::raster::refine::{affine_uv8, refine_uv8};
 use crate::raster::setup::ProjectedVertex;
@@ -18,7 +19,6 @@ use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleS
 use crate::scene::Scene;
 use crate::shade::{ShadeContext, ShadedSample, SurfaceSamples8};
 use crate::texture::{Filter, Footprint8};
-use crate::limits::Limit;
 use crate::{Error, Result};
 use glam::{Affine3A, Quat, Vec2, Vec3};
 use rayon::prelude::*;

@@ -111,7 +111,8 @@ fn import(path: &Path) -> Result<(gltf::Document, Vec<gltf::buffer::Data>, Vec<g
         return Err(fail(problem));
     }
     let base = path.parent().unwrap_or(Path::new("."));
-    let uris = root.buffers.iter().filter_map(|b| b.uri.as_deref()).chain(root.images.iter().filter_map(|i| i.uri.as_deref()));
+    let uris =
+        root.buffers.iter().filter_map(|b| b.uri.as_deref()).chain(root.images.iter().filter_map(|i| i.uri.as_deref()));
     for uri in uris.filter(|u| !u.starts_with("data:") && !u.contains("://")) {
         let file = base.join(uri);
         if file.exists() {
