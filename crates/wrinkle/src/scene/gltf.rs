@@ -86,7 +86,9 @@ pub fn load(path: &Path) -> Result<Vec<ModelPart>> {
 /// (a buffer at /dev/zero would be read forever), and every primitive's attributes must name accessors that
 /// exist (gltf-json's validation indexes POSITION's accessor unchecked).
 fn import(path: &Path) -> Result<(gltf::Document, Vec<gltf::buffer::Data>, Vec<gltf::image::Data>)> {
-    use gltf::json::validation::Validate;
+    use gltf::json::accessor::ComponentType;
+    use gltf::json::mesh::Semantic;
+    use gltf::json::validation::{Checked, Validate};
     crate::image::io::check_input(path)?;
     let bytes = std::fs::read(path).map_err(|e| Error::read(path, crate::image::io::open_message(&e)))?;
     let fail = |m: String| Error::read(path, m);
@@ -100,6 +102,28 @@ fn import(path: &Path) -> Result<(gltf::Document, Vec<gltf::buffer::Data>, Vec<g
                     index.value(),
                     root.accessors.len()
                 )));
+            }
+            // The reader reaches `unreachable!` on component types the specification does not allow here.
+            let component = |a: usize| match root.accessors.get(a).map(|a| &a.component_type) {
+                Some(Checked::Valid(t)) => Some(t.0),
+                _ => None,
+            };
+            let allowed = |a: usize, kinds: &[ComponentType]| component(a).is_none_or(|t| kinds.contains(&t));
+            for (semantic, index) in &primitive.attributes {
+                if let Checked::Valid(Semantic::TexCoords(set)) = semantic {
+                    if !allowed(index.value(), &[ComponentType::U8, ComponentType::U16, ComponentType::F32]) {
+                        return Err(fail(format!(
+                            "malformed glTF: meshes[{m}].primitives[{p}]: TEXCOORD_{set} must be unsigned bytes, shorts or floats"
+                        )));
+                    }
+                }
+            }
+            if let Some(indices) = &primitive.indices {
+                if !allowed(indices.value(), &[ComponentType::U8, ComponentType::U16, ComponentType::U32]) {
+                    return Err(fail(format!(
+                        "malformed glTF: meshes[{m}].primitives[{p}]: indices must be unsigned bytes, shorts or ints"
+                    )));
+                }
             }
         }
     }
