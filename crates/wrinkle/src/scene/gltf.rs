@@ -127,6 +127,14 @@ fn import(path: &Path) -> Result<(gltf::Document, Vec<gltf::buffer::Data>, Vec<g
             }
         }
     }
+    // The specification's rule the gltf crate unwraps unchecked: an image is a bufferView with a mimeType,
+    // or a uri.
+    for (k, image) in root.images.iter().enumerate() {
+        let complete = if image.buffer_view.is_some() { image.mime_type.is_some() } else { image.uri.is_some() };
+        if !complete {
+            return Err(fail(format!("malformed glTF: images[{k}] needs a uri, or a bufferView and a mimeType")));
+        }
+    }
     let mut problem = None;
     root.validate(root, gltf::json::Path::new, &mut |at, error| {
         problem.get_or_insert_with(|| format!("malformed glTF: {}: {error}", at()));
