@@ -4,6 +4,7 @@
 //! filter modes, KHR_texture_transform, doubleSided. Texture coordinates are flipped into the project's
 //! convention (v up): glTF's v runs down the image.
 
+use super::contain::contain_panics;
 use super::load::default_material;
 use super::model::ModelPart;
 use crate::bump::normal_map::Convention;
@@ -25,6 +26,11 @@ use std::sync::Arc;
 
 /// Every primitive of the file's default scene (or its first), placed by its node's world transform.
 pub fn load(path: &Path) -> Result<Vec<ModelPart>> {
+    contain_panics(|| load_checked(path))
+        .unwrap_or_else(|panic| Err(Error::read(path, format!("malformed glTF: the gltf crate failed on it: {panic}"))))
+}
+
+fn load_checked(path: &Path) -> Result<Vec<ModelPart>> {
     let (document, buffers, images) = import(path)?;
     let fail = |m: String| Error::read(path, m);
     let scene =

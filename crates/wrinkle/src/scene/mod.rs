@@ -1,6 +1,7 @@
 //! The scene: camera, lights, objects and their materials, read from TOML (docs/scene-format.md)
 //! and validated on load.
 
+mod contain;
 mod fields;
 mod gltf;
 mod load;
