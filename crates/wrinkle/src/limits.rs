@@ -39,8 +39,10 @@ impl Limit {
     }
 
     fn default_value(self) -> u64 {
+        // The machine's memory is read once, not at every reservation.
+        static MEMORY: std::sync::OnceLock<u64> = std::sync::OnceLock::new();
         match self {
-            Limit::Memory => default_memory(),
+            Limit::Memory => *MEMORY.get_or_init(default_memory),
             Limit::ImageSide => 32768,
             Limit::ImagePixels => 16384 * 16384,
             Limit::FrameSide => 16384,
