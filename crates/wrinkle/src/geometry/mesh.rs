@@ -102,17 +102,39 @@ impl TriangleMesh {
     /// triangle its own tangent, so the mesh is split into three vertices per triangle first (the tangents
     /// of corners that share a vertex may differ across a uv seam or a mirror). False when the mesh has no
     /// such coordinates.
+    ///
+    /// mikktspace 0.3 is C translated to Rust and trusts its input as the C did: it reads freed memory
+    /// when every triangle is degenerate (a count of the others runs below zero) and indexes past its cell
+    /// table when the mesh's box is flat in every direction or wider than f32 holds. So it only sees the
+    /// triangles with three distinct corners (the others cover no pixel and keep the default tangent), a
+    /// huge mesh scaled down exactly by a power of two.
     pub fn generate_tangents(&mut self, uv_set: usize) -> bool {
         if uv_set >= self.uv_sets.len() {
             return false;
         }
         self.split_corners();
-        let tangents = vec![Vec4::new(1.0, 0.0, 0.0, 1.0); self.positions.len()];
-        let mut corners = Corners { mesh: self, uv_set, tangents };
-        let ok = mikktspace::generate_tangents(&mut corners);
-        self.tangents = corners.tangents;
+        let (min, max) =
+            self.positions.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+        let extent = (max.as_dvec3() - min.as_dvec3()).max_element();
+        // Beyond 2^30 its squared cross products overflow f32.
+        let scale = if extent > (1u64 << 30) as f64 { 0.5f32.powi(extent.log2().ceil() as i32) } else { 1.0 };
+        let faces: Vec<usize> = (0..self.triangles.len())
+            .filter(|&t| {
+                let [a, b, c] = [0, 1, 2].map(|k| self.positions[3 * t + k] * scale);
+                a != b && a != c && b != c
+            })
+            .collect();
+        let mut tangents = vec![Vec4::new(1.0, 0.0, 0.0, 1.0); self.positions.len()];
+        if !faces.is_empty() {
+            let mut corners = Corners { mesh: self, faces, uv_set, scale, tangents };
+            if !mikktspace::generate_tangents(&mut corners) {
+                return false;
+            }
+            tangents = corners.tangents;
+        }
+        self.tangents = tangents;
         self.weld();
-        ok
+        true
     }
 
     /// Merges vertices whose data are bit for bit the same (the corners MikkTSpace gave the same tangent),
@@ -188,37 +210,76 @@ impl TriangleMesh {
         }
     }
 
+    /// `other`'s triangles added to this mesh (one model of several parts). Vertex data the two do not
+    /// both have (normals, tangents, texture coordinate sets) are dropped.
+    pub fn append(&mut self, other: &TriangleMesh) {
+        if self.positions.is_empty() {
+            *self = other.clone();
+            return;
+        }
+        let base = self.positions.len() as u32;
+        join(&mut self.normals, &other.normals);
+        join(&mut self.tangents, &other.tangents);
+        self.uv_sets.truncate(other.uv_sets.len());
+        for (set, theirs) in self.uv_sets.iter_mut().zip(&other.uv_sets) {
+            set.extend_from_slice(theirs);
+        }
+        self.positions.extend_from_slice(&other.positions);
+        self.triangles.extend(other.triangles.iter().map(|t| t.map(|k| k + base)));
+    }
+
     /// The texture coordinates of set `k`, if the mesh has them.
     pub fn uvs(&self, k: usize) -> Option<&[Vec2]> {
         self.uv_sets.get(k).map(Vec::as_slice)
     }
 }
 
-/// The mesh as MikkTSpace reads it: every face a triangle, every corner its own vertex.
+/// Per-vertex data of two meshes joined: `theirs` after `mine`, or none where either has none.
+fn join<T: Clone>(mine: &mut Vec<T>, theirs: &[T]) {
+    if mine.is_empty() || theirs.is_empty() {
+        mine.clear();
+    } else {
+        mine.extend_from_slice(theirs);
+    }
+}
+
+/// The mesh as MikkTSpace reads it: every face a triangle with three distinct corners, every corner its
+/// own vertex.
 struct Corners<'a> {
     mesh: &'a TriangleMesh,
+    /// The triangles it is given, by index.
+    faces: Vec<usize>,
     uv_set: usize,
+    /// What positions are multiplied by: 1, or a power of two that brings a huge mesh to about a unit.
+    scale: f32,
     tangents: Vec<Vec4>,
+}
+
+impl Corners<'_> {
+    fn corner(&self, face: usize, vert: usize) -> usize {
+        3 * self.faces[face] + vert
+    }
 }
 
 impl mikktspace::Geometry for Corners<'_> {
     fn num_faces(&self) -> usize {
-        self.mesh.triangles.len()
+        self.faces.len()
     }
     fn num_vertices_of_face(&self, _face: usize) -> usize {
         3
     }
     fn position(&self, face: usize, vert: usize) -> [f32; 3] {
-        self.mesh.positions[3 * face + vert].to_array()
+        (self.mesh.positions[self.corner(face, vert)] * self.scale).to_array()
     }
     fn normal(&self, face: usize, vert: usize) -> [f32; 3] {
-        self.mesh.normals[3 * face + vert].to_array()
+        self.mesh.normals[self.corner(face, vert)].to_array()
     }
     fn tex_coord(&self, face: usize, vert: usize) -> [f32; 2] {
-        self.mesh.uv_sets[self.uv_set][3 * face + vert].to_array()
+        self.mesh.uv_sets[self.uv_set][self.corner(face, vert)].to_array()
     }
     fn set_tangent_encoded(&mut self, tangent: [f32; 4], face: usize, vert: usize) {
-        self.tangents[3 * face + vert] = Vec4::from_array(tangent);
+        let k = self.corner(face, vert);
+        self.tangents[k] = Vec4::from_array(tangent);
     }
 }
 
@@ -271,6 +332,30 @@ mod tests {
         for t in &m.tangents {
             let bitangent = t.w * Vec3::Z.cross(t.truncate());
             assert!((t.truncate() + Vec3::X).length() < 1e-5 && (bitangent - Vec3::Y).length() < 1e-5, "{t}");
+        }
+    }
+
+    /// Meshes mikktspace 0.3 reads out of bounds on (found by fuzzing): all triangles degenerate, one
+    /// point, wider than f32 holds. Degenerate triangles keep the default tangent, the others get
+    /// MikkTSpace's, of the mesh scaled down where it is huge.
+    #[test]
+    fn tangents_of_degenerate_and_huge_meshes() {
+        let mut point = square();
+        point.positions.iter_mut().for_each(|p| *p = Vec3::splat(0.5));
+        point.normals = vec![Vec3::Z; 4];
+        assert!(point.generate_tangents(0));
+        assert!(point.tangents.iter().all(|&t| t == Vec4::new(1.0, 0.0, 0.0, 1.0)));
+        let mut lines = square();
+        lines.positions[2] = lines.positions[0];
+        lines.normals = vec![Vec3::Z; 4];
+        assert!(lines.generate_tangents(0));
+        assert!(lines.tangents.iter().all(|&t| t == Vec4::new(1.0, 0.0, 0.0, 1.0)));
+        let mut huge = square();
+        huge.positions.iter_mut().for_each(|p| *p = (*p * 2.0 - Vec3::ONE) * 3.0e38 * Vec3::new(1.0, 1.0, 0.0));
+        huge.normals = vec![Vec3::Z; 4];
+        assert!(huge.generate_tangents(0));
+        for t in &huge.tangents {
+            assert!((t.truncate() - Vec3::X).length() < 1e-5 && t.w == 1.0, "{t}");
         }
     }
 

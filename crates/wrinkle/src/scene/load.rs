@@ -1,5 +1,6 @@
 //! Reading a scene from TOML, field by field, with paths resolved against the scene file's folder.
 
+use super::contain::contain_panics;
 use super::fields::{clip_backquoted, number_value, points, quoted, vec3_value, Fields};
 use super::mapping::{parse_mapping, uv_list};
 use super::procedural;
@@ -297,9 +298,14 @@ fn parse_mesh(f: &Fields, base: &Path, materials: &mut Vec<Material>) -> Result<
             None => part.material,
         };
         let mut mesh = part.mesh;
-        // Normal maps need tangents; MikkTSpace makes them where the file has none.
-        if material.normal_map.is_some() && mesh.tangents.is_empty() && !mesh.generate_tangents(0) {
-            return Err(Error::read(&file, "has a normal map but no texture coordinates to lay it with"));
+        // Normal maps need tangents; MikkTSpace makes them where the file has none (contained: a
+        // third-party crate indexing out of bounds on a mesh it did not expect is still one line).
+        if material.normal_map.is_some() && mesh.tangents.is_empty() {
+            let made = contain_panics(|| mesh.generate_tangents(0))
+                .map_err(|why| Error::read(&file, format!("MikkTSpace failed on its triangles: {why}")))?;
+            if !made {
+                return Err(Error::read(&file, "has a normal map but no texture coordinates to lay it with"));
+            }
         }
         materials.push(material);
         parts.push(MeshPart {
