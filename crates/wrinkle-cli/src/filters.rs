@@ -6,14 +6,15 @@
 //! integral over the pixel's preimage from 32 x 32 samples.
 
 use crate::render::load_scene;
+use crate::sheet;
 use clap::Args;
 use glam::Vec2;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
-use wrinkle::bump::generators::{glyph, text as text_image, TextParams};
-use wrinkle::image::color::{srgb_to_linear, SrgbEncoder};
+use wrinkle::bump::generators::{text as text_image, TextParams};
+use wrinkle::image::color::srgb_to_linear;
 use wrinkle::image::{io, Image};
 use wrinkle::mapping::{MappedTexture, Mapping, UvTransform};
 use wrinkle::texture::{Filter, FilteredTexture, TextureOptions};
@@ -126,6 +127,7 @@ fn classic_scene() -> Result<Scene> {
     Ok(scene)
 }
 
+/// A filter's panel with its time and its error against the ground truth.
 struct Panel {
     name: String,
     pixels: Vec<[f32; 3]>,
@@ -197,60 +199,17 @@ pub fn run(args: &FiltersArgs) -> Result<()> {
     bar.finish_and_clear();
     panels.push(Panel { name: "ground truth".into(), pixels: truth, ms: f64::NAN, rmse: 0.0 });
 
-    let sheet = compose(&panels, args.width, args.height, args.columns);
+    let labelled: Vec<sheet::Panel> = panels
+        .iter()
+        .map(|p| sheet::Panel {
+            label: if p.rmse > 0.0 { format!("{}  {:.1} dB", p.name, psnr(p.rmse)) } else { p.name.clone() },
+            pixels: p.pixels.clone(),
+        })
+        .collect();
+    let sheet = sheet::compose(&labelled, args.width, args.height, args.columns);
     io::write_png_rgb8(&args.output, sheet.width, sheet.height, &sheet.pixels)?;
     print_table(&panels[..panels.len() - 1], args.json);
     Ok(())
-}
-
-/// Height of the label strip above each panel, and the gap between panels.
-const LABEL: usize = 20;
-const GAP: usize = 4;
-
-/// The panels in a grid, each under its label ("ewa  34.3 dB"), 8-bit sRGB.
-fn compose(panels: &[Panel], w: usize, h: usize, columns: usize) -> Image<u8> {
-    let columns = columns.min(panels.len());
-    let rows = panels.len().div_ceil(columns);
-    let (cw, ch) = (w + GAP, h + LABEL + GAP);
-    let (sw, sh) = (columns * cw + GAP, rows * ch + GAP);
-    let mut sheet = Image::new(sw * 3, sh, 24u8);
-    let enc = SrgbEncoder::new();
-    for (k, p) in panels.iter().enumerate() {
-        let (x0, y0) = (GAP + (k % columns) * cw, GAP + (k / columns) * ch);
-        for y in 0..h {
-            for x in 0..w {
-                let c = p.pixels[y * w + x];
-                for (ch, v) in c.iter().enumerate() {
-                    sheet.set((x0 + x) * 3 + ch, y0 + LABEL + y, enc.encode(*v));
-                }
-            }
-        }
-        let label = if p.rmse > 0.0 { format!("{}  {:.1} dB", p.name, psnr(p.rmse)) } else { p.name.clone() };
-        draw_text(&mut sheet, x0 + 4, y0 + 2, &label, w - 8);
-    }
-    Image { width: sw, height: sh, pixels: sheet.pixels }
-}
-
-/// White letters of font8x8 at twice their size, clipped to `max_width` pixels.
-fn draw_text(sheet: &mut Image<u8>, x0: usize, y0: usize, text: &str, max_width: usize) {
-    for (k, c) in text.chars().enumerate() {
-        let g = glyph(c);
-        for (gy, row) in g.iter().enumerate() {
-            for gx in 0..8 {
-                if (row >> gx) & 1 == 0 {
-                    continue;
-                }
-                for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
-                    let x = k * 16 + gx * 2 + dx;
-                    if x < max_width {
-                        for ch in 0..3 {
-                            sheet.set((x0 + x) * 3 + ch, y0 + gy * 2 + dy, 235);
-                        }
-                    }
-                }
-            }
-        }
-    }
 }
 
 fn print_table(panels: &[Panel], json: bool) {

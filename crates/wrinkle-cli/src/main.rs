@@ -10,10 +10,13 @@ mod emboss;
 mod filters;
 mod heightmap;
 mod image_args;
+mod mappings;
 mod mipmap;
 mod normalmap;
 mod output;
 mod render;
+mod sheet;
+mod tessellate;
 mod texture;
 
 use clap::{Parser, Subcommand};
@@ -60,6 +63,10 @@ enum Command {
     BenchNoise(bench_noise::BenchNoiseArgs),
     /// Bake a procedural texture (noise, fbm, marble, wood, fire, clouds, bricks, ...) into a PNG or EXR.
     Texture(texture::TextureArgs),
+    /// Render every texture mapping on a sphere and the Utah teapot, side by side on one labelled sheet.
+    Mappings(mappings::MappingsArgs),
+    /// Write a scene's geometry as an OBJ model: parametric surfaces tessellated, meshes as read, in world space.
+    Tessellate(tessellate::TessellateArgs),
 }
 
 fn main() -> ExitCode {
@@ -120,6 +127,8 @@ fn run_cli() -> ExitCode {
             Command::BenchTexture(a) => bench_texture::run(a),
             Command::BenchNoise(a) => bench_noise::run(a),
             Command::Texture(a) => texture::run(a),
+            Command::Mappings(a) => mappings::run(a),
+            Command::Tessellate(a) => tessellate::run(a),
         });
     match result {
         Ok(()) => ExitCode::SUCCESS,

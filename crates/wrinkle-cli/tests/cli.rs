@@ -624,3 +624,60 @@ fn bench_noise_reports_throughput() {
     assert_ok(&run);
     assert!(run.stdout.contains("perlin3_mpts=") && run.stdout.contains("fbm6_mpts="), "{}", run.stdout);
 }
+
+#[test]
+fn mappings_sheet_shows_each_mapping_differently() {
+    let s = Scratch::new("mappings");
+    let out = s.out("sheet.png");
+    let (w, h) = (96usize, 60usize);
+    assert_ok(&wrinkle(&["mappings", "-o", &out, "--width", "96", "--height", "60", "--spp", "1"]));
+    // 14 panels in rows of 4: 4 columns of 96 + 4 px gaps, 4 rows of 60 px under 20 px labels.
+    assert_eq!(png_header(&out), (4 * 100 + 4, 4 * (h as u32 + 24) + 4, 8, 2));
+    let sheet = wrinkle::image::io::load_rgba8(Path::new(&out)).unwrap();
+    let panel = |k: usize| -> Vec<f64> {
+        let (x0, y0) = (4 + (k % 4) * (w + 4), 4 + (k / 4) * (h + 24) + 20);
+        (0..w * h).flat_map(|i| sheet.get(x0 + i % w, y0 + i / w)[..3].to_vec()).map(f64::from).collect()
+    };
+    let panels: Vec<Vec<f64>> = (0..14).map(panel).collect();
+    // Each mapping lays the checkerboard its own way: every two panels differ, if only on the teapot
+    // (spherical and sphere/normal agree on the sphere), by more than rounding does (cylinder/ISN, the
+    // same as cylindrical, differed from it by 0.3 levels).
+    for a in 0..14 {
+        for b in a + 1..14 {
+            let mean =
+                panels[a].iter().zip(&panels[b]).map(|(x, y)| (x - y).abs()).sum::<f64>() / panels[a].len() as f64;
+            assert!(mean > 1.0, "panels {a} and {b} differ by only {mean:.2} levels");
+        }
+    }
+    assert_eq!(s.out_entries(), ["sheet.png"]);
+}
+
+#[test]
+fn tessellate_writes_the_scene_as_an_obj_with_shared_positions() {
+    let s = Scratch::new("tessellate");
+    let scene = s.write_input(
+        "sphere.toml",
+        "[camera]\neye = [0.0, 0.0, 5.0]\nlook_at = [0.0, 0.0, 0.0]\n\n[[object]]\nshape = \"sphere\"\nradius = 2.0\n\
+         transform = { translate = [1.0, 0.0, 0.0] }\n",
+    );
+    let out = s.out("sphere.obj");
+    assert_ok(&wrinkle(&["tessellate", &scene, "-o", &out, "--segments", "8"]));
+    let obj = fs::read_to_string(&out).unwrap();
+    let lines = |prefix: &'static str| obj.lines().filter(move |l| l.starts_with(prefix));
+    // 9 x 9 grid vertices, each with its (u,v) and normal; positions shared across the seam (9) and at
+    // each pole (8 + 8 collapse onto 2): 81 - 9 - 14 = 58.
+    assert_eq!((lines("v ").count(), lines("vt ").count(), lines("vn ").count()), (58, 81, 81));
+    assert_eq!(lines("f ").count(), 2 * 8 * 8);
+    for v in lines("v ") {
+        let p: Vec<f64> = v[2..].split(' ').map(|x| x.parse().unwrap()).collect();
+        let r = ((p[0] - 1.0).powi(2) + p[1].powi(2) + p[2].powi(2)).sqrt();
+        assert!((r - 2.0).abs() < 1e-5, "{v} is off the sphere");
+    }
+    for n in lines("vn ") {
+        let n: Vec<f64> = n[3..].split(' ').map(|x| x.parse().unwrap()).collect();
+        assert!(((n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt() - 1.0).abs() < 1e-5);
+    }
+    fs::remove_file(&out).unwrap();
+    assert_one_error(&wrinkle(&["tessellate", &scene, "-o", &out, "--segments", "0"]), 2, &["segments", "0"], &s);
+    assert_one_error(&wrinkle(&["tessellate", &scene, "-o", &s.out("m.png")]), 2, &["m.png"], &s);
+}

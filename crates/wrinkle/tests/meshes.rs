@@ -247,3 +247,49 @@ fn primitive_aov_names_the_triangle_each_pixel_sees() {
     }
     assert!(checked > 500 && background > 100, "{checked} quad pixels, {background} background");
 }
+
+/// The teapot's mesh in scenes/models/teapot.obj is what `wrinkle tessellate` makes of the 32 patches, and
+/// it renders as they do: the same pixels covered (no pinholes where patches meet, silhouettes within a
+/// pixel), the same colours and normals inside, Blinn's bumps from the triangles' uv gradients included.
+#[test]
+fn the_teapot_mesh_is_the_patches_exported_and_renders_like_them() {
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let patches = Scene::load(&scenes.join("teapot.toml")).unwrap();
+    let committed = std::fs::read_to_string(scenes.join("models/teapot.obj")).unwrap();
+    assert!(committed == patches.to_obj(10).unwrap(), "teapot.obj differs from `wrinkle tessellate --segments 10`");
+
+    let (w, h) = (240, 160);
+    let read = |name: &str| std::fs::read_to_string(scenes.join(name)).unwrap();
+    let exact = render_all_aovs(&read("teapot.toml"), &scenes, w, h, 1);
+    let mesh = render_all_aovs(&read("teapot_mesh.toml"), &scenes, w, h, 1);
+    let covered = |f: &wrinkle::Frame, i: usize, j: usize| f.depth.as_ref().unwrap()[j * w + i].is_finite();
+    let (mut inside, mut holes, mut silhouette, mut shared) = (0, 0, 0, 0);
+    let (mut colour_err, mut normal_err) = (0.0f64, 0.0f64);
+    for j in 1..h - 1 {
+        for i in 1..w - 1 {
+            let interior = (0..9).all(|k| covered(&exact, i + k % 3 - 1, j + k / 3 - 1));
+            if interior {
+                inside += 1;
+                if !covered(&mesh, i, j) {
+                    holes += 1;
+                }
+            } else if covered(&exact, i, j) != covered(&mesh, i, j) {
+                silhouette += 1;
+            }
+            if interior && covered(&mesh, i, j) {
+                shared += 1;
+                let (a, b) = (exact.color[j * w + i], mesh.color[j * w + i]);
+                colour_err += (0..3).map(|c| (a[c] - b[c]).abs() as f64).sum::<f64>() / 3.0;
+                let (na, nb) = (exact.normal.as_ref().unwrap()[j * w + i], mesh.normal.as_ref().unwrap()[j * w + i]);
+                normal_err += angle_deg(d3(Vec3::from(na)), d3(Vec3::from(nb)));
+            }
+        }
+    }
+    let (colour_err, normal_err) = (colour_err / shared as f64, normal_err / shared as f64);
+    assert!(inside > 8000 && holes == 0, "{holes} of {inside} interior pixels show the background");
+    assert!(silhouette < inside / 100, "{silhouette} silhouette pixels differ");
+    assert!(
+        colour_err < 0.006 && normal_err < 1.0,
+        "mean |colour| {colour_err:.4}, mean normal {normal_err:.3} degrees"
+    );
+}

@@ -4,7 +4,7 @@
 //! Watertightness starts here: every grid vertex is computed once and shared by the triangles around it,
 //! and the vertices of a wrapping seam (u = 1 beside u = 0) reuse the positions of the other side exactly.
 
-use super::Surface;
+use super::{Surface, TriangleMesh};
 use glam::{Vec2, Vec3};
 
 /// Triangles over one surface, in object space; each triangle runs counter-clockwise in (u,v),
@@ -47,6 +47,35 @@ pub fn grid(surface: &Surface, nu: usize, nv: usize) -> Mesh {
             mesh.triangles.push([a, c, d]);
         }
     }
+    mesh
+}
+
+/// The surface as a model's triangle mesh: the grid of `nu` x `nv` quads with its (u,v) and the exact
+/// unit normal at every vertex. Where Pu x Pv vanishes because an edge of the patch is drawn together into
+/// a point (the teapot's lid knob and bottom, a sphere's poles), the normal is its limit along that edge,
+/// Puv x Pv or Pu x Puv; where even that vanishes the faces around the vertex decide.
+pub fn triangle_mesh(surface: &Surface, nu: usize, nv: usize) -> TriangleMesh {
+    let grid = grid(surface, nu, nv);
+    let normals = grid
+        .uvs
+        .iter()
+        .map(|uv| {
+            let f = surface.frame(uv.x, uv.y);
+            let scale = f.pu.length_squared().max(f.pv.length_squared()).max(f32::MIN_POSITIVE);
+            [f.pu.cross(f.pv), f.puv.cross(f.pv), f.pu.cross(f.puv)]
+                .into_iter()
+                .find(|n| n.length_squared() > 1e-12 * scale * scale)
+                .map_or(Vec3::ZERO, Vec3::normalize)
+        })
+        .collect();
+    let mut mesh = TriangleMesh {
+        positions: grid.positions,
+        normals,
+        uv_sets: vec![grid.uvs],
+        triangles: grid.triangles,
+        ..TriangleMesh::default()
+    };
+    mesh.complete_normals();
     mesh
 }
 

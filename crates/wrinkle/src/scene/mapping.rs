@@ -26,6 +26,14 @@ const TYPES: &[(&str, &[&str])] = &[
     ("quad", &["points", "uv"]),
 ];
 
+/// A mapping written as a scene writes it, `{ type = "cylindrical", placement = { ... } }`, for front ends
+/// that choose mappings without a scene file; errors name its fields under `mapping`.
+pub fn parse_mapping_text(text: &str) -> Result<Mapping> {
+    let table: toml::Table = toml::from_str(&format!("mapping = {text}"))
+        .map_err(|e| Error::scene("mapping", format!("malformed TOML: {}", e.message().trim())))?;
+    parse_mapping("mapping", table.get("mapping"), UvTransform::IDENTITY)
+}
+
 /// The mapping at `path` (absent: the surface's (u,v)), placed in (u,v) by `transform`.
 pub fn parse_mapping(path: &str, v: Option<&Value>, transform: UvTransform) -> Result<Mapping> {
     let Some(v) = v else { return Ok(Mapping::uv(transform)) };

@@ -2,6 +2,7 @@
 //! and validated on load.
 
 mod contain;
+mod export;
 mod fields;
 mod gltf;
 mod load;
@@ -12,6 +13,7 @@ mod procedural;
 mod texture;
 
 pub use load::DEFAULT_SCENE;
+pub use mapping::parse_mapping_text;
 
 use crate::geometry::{Shape, Transform};
 use crate::light::Light;
