@@ -293,3 +293,49 @@ fn the_teapot_mesh_is_the_patches_exported_and_renders_like_them() {
         "mean |colour| {colour_err:.4}, mean normal {normal_err:.3} degrees"
     );
 }
+
+/// KHR_texture_transform on the normal texture (which the gltf crate leaves to the reader): a 4x4 map of
+/// four quadrants of different normals, the quad's centre (uv 0.5, 0.5) scaled by 1/2 onto a quadrant's
+/// corner texel and moved by the offset, or turned by the rotation, into another.
+#[test]
+fn gltf_normal_texture_transform_picks_the_quadrant_the_specification_implies() {
+    let dir = scratch_dir("gltf-normal-transform");
+    let tilts = [
+        DVec3::new(0.5, 0.0, 0.85),
+        DVec3::new(0.0, 0.5, 0.85),
+        DVec3::new(-0.5, 0.0, 0.85),
+        DVec3::new(0.0, -0.5, 0.85),
+    ];
+    // Quadrant k = column + 2 row, row 0 at the top of the image (glTF's v = 0).
+    let texels: Vec<u8> = (0..16).flat_map(|i| texel_of(tilts[(i % 4) / 2 + 2 * ((i / 4) / 2)])).collect();
+    let path = dir.join("quadrants.png");
+    wrinkle::image::io::write_png_rgb8(&path, 4, 4, &texels).unwrap();
+    let png = std::fs::read(&path).unwrap();
+    let half_pi = std::f64::consts::FRAC_PI_2;
+    let cases = [
+        ("scale", "\"scale\": [0.5, 0.5]".to_string(), 0),
+        ("offset in u", "\"offset\": [0.5, 0.0], \"scale\": [0.5, 0.5]".to_string(), 1),
+        ("offset in v", "\"offset\": [0.0, 0.5], \"scale\": [0.5, 0.5]".to_string(), 2),
+        // (0.25, 0.25) turned by R = [cos sin; -sin cos] is (0.25, -0.25); with the offset, (0.75, 0.25).
+        ("rotation", format!("\"offset\": [0.5, 0.5], \"rotation\": {half_pi}, \"scale\": [0.5, 0.5]"), 1),
+    ];
+    for (k, (name, transform, quadrant)) in cases.into_iter().enumerate() {
+        let material = format!(
+            "{{\"normalTexture\": {{\"index\": 0, \"extensions\": {{\"KHR_texture_transform\": {{{transform}}}}}}}}}"
+        );
+        let file = File { primitive: quad(None, false), matrix: None, material, png: Some(png.clone()) };
+        let (bytes, _) = file.write(Layout::Binary, "");
+        std::fs::write(dir.join(format!("t{k}.glb")), bytes).unwrap();
+        let got = centre_normal(&dir, &format!("t{k}.glb"));
+        let want = decoded(texel_of(tilts[quadrant]));
+        let err = angle_deg(got, want);
+        assert!(err < 0.5, "{name}: normal {got} against quadrant {quadrant}'s {want}: {err} degrees");
+    }
+    // A malformed transform is one line naming it.
+    let material = "{\"normalTexture\": {\"index\": 0, \"extensions\": {\"KHR_texture_transform\": {\"scale\": 2}}}}";
+    let file = File { primitive: quad(None, false), matrix: None, material: material.into(), png: Some(png) };
+    std::fs::write(dir.join("bad.glb"), file.write(Layout::Binary, "").0).unwrap();
+    let text = "[camera]\neye = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\n\n[[object]]\nshape = \"mesh\"\nfile = \"bad.glb\"\n";
+    let err = Scene::parse(text, &dir).err().expect("a malformed transform is refused").to_string();
+    assert!(err.contains("bad.glb") && err.contains("KHR_texture_transform") && err.contains("scale"), "{err}");
+}

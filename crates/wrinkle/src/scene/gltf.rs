@@ -1,7 +1,7 @@
 //! glTF 2.0 models (.gltf with its buffers and images, or one .glb) through the `gltf` crate: the default
 //! scene's node hierarchy with every node's transform baked into its meshes, each primitive with its
 //! material: baseColorFactor and baseColorTexture, normalTexture with its scale, the samplers' wrap and
-//! filter modes, KHR_texture_transform, doubleSided. Texture coordinates are flipped into the project's
+//! filter modes, KHR_texture_transform (on the base colour and the normal texture), doubleSided. Texture coordinates are flipped into the project's
 //! convention (v up): glTF's v runs down the image.
 
 use super::contain::contain_panics;
@@ -182,10 +182,10 @@ impl Textures<'_> {
         &mut self,
         texture: gltf::Texture,
         tex_coord: u32,
-        transform: Option<gltf::texture::TextureTransform>,
+        transform: Option<TextureTransform>,
         srgb: bool,
     ) -> std::result::Result<MappedTexture, String> {
-        let set = transform.as_ref().and_then(|t| t.tex_coord()).unwrap_or(tex_coord);
+        let set = transform.as_ref().and_then(|t| t.tex_coord).unwrap_or(tex_coord);
         if set != 0 {
             return Err(format!("texture {} reads TEXCOORD_{set}; only TEXCOORD_0 is drawn", texture.index()));
         }
@@ -206,21 +206,64 @@ impl Textures<'_> {
                 t
             }
         };
-        let uv = match transform {
-            Some(t) => khr_texture_transform(t.offset(), t.rotation(), t.scale()),
-            None => UvTransform::IDENTITY,
-        };
+        let uv = transform.map_or(UvTransform::IDENTITY, |t| t.uv_transform());
         Ok(MappedTexture { texture: built, mapping: Mapping::uv(uv) })
     }
 }
 
-/// KHR_texture_transform's st = T R S uv in glTF's coordinates (v down, rotation clockwise on the image),
-/// carried into the project's (v up): s = x + sin(r) sy + cos(r) sx u - sin(r) sy v,
-/// t = 1 - y - cos(r) sy + sin(r) sx u + cos(r) sy v, a counter-clockwise rotation by r.
-fn khr_texture_transform(offset: [f32; 2], rotation: f32, scale: [f32; 2]) -> UvTransform {
-    let (sin, cos) = rotation.sin_cos();
-    let o = Vec2::new(offset[0] + sin * scale[1], 1.0 - offset[1] - cos * scale[1]);
-    UvTransform::new(o, rotation.to_degrees(), Vec2::from_array(scale))
+/// A texture reference's KHR_texture_transform: the gltf crate reads it on `textureInfo`s, wrinkle reads
+/// it from the JSON on the normal texture, where the crate does not.
+struct TextureTransform {
+    offset: [f32; 2],
+    rotation: f32,
+    scale: [f32; 2],
+    tex_coord: Option<u32>,
+}
+
+impl TextureTransform {
+    fn of_info(t: gltf::texture::TextureTransform) -> TextureTransform {
+        TextureTransform { offset: t.offset(), rotation: t.rotation(), scale: t.scale(), tex_coord: t.tex_coord() }
+    }
+
+    /// The extension's JSON object; its members as the specification types them, with its defaults.
+    fn of_json(v: &gltf::json::Value) -> std::result::Result<TextureTransform, String> {
+        let bad = |member: &str| format!("normalTexture's KHR_texture_transform has a malformed {member}");
+        let object = v.as_object().ok_or_else(|| bad("object"))?;
+        let pair = |member: &str, default: [f32; 2]| match object.get(member) {
+            None => Ok(default),
+            Some(v) => match v.as_array().map(|a| a.iter().map(|x| x.as_f64()).collect::<Vec<_>>()).as_deref() {
+                Some([Some(a), Some(b)]) => Ok([*a as f32, *b as f32]),
+                _ => Err(bad(member)),
+            },
+        };
+        let rotation = match object.get("rotation") {
+            None => 0.0,
+            Some(v) => v.as_f64().ok_or_else(|| bad("rotation"))? as f32,
+        };
+        let tex_coord = match object.get("texCoord") {
+            None => None,
+            Some(v) => Some(v.as_u64().and_then(|k| u32::try_from(k).ok()).ok_or_else(|| bad("texCoord"))?),
+        };
+        let t = TextureTransform {
+            offset: pair("offset", [0.0; 2])?,
+            rotation,
+            scale: pair("scale", [1.0; 2])?,
+            tex_coord,
+        };
+        if t.offset.iter().chain(&t.scale).chain([&t.rotation]).any(|x| !x.is_finite()) {
+            return Err(bad("number (out of range)"));
+        }
+        Ok(t)
+    }
+
+    /// st = T R S uv in glTF's coordinates (v down, rotation clockwise on the image), carried into the
+    /// project's (v up): s = x + sin(r) sy + cos(r) sx u - sin(r) sy v,
+    /// t = 1 - y - cos(r) sy + sin(r) sx u + cos(r) sy v, a counter-clockwise rotation by r.
+    fn uv_transform(&self) -> UvTransform {
+        let (sin, cos) = self.rotation.sin_cos();
+        let o = Vec2::new(self.offset[0] + sin * self.scale[1], 1.0 - self.offset[1] - cos * self.scale[1]);
+        UvTransform::new(o, self.rotation.to_degrees(), Vec2::from_array(self.scale))
+    }
 }
 
 fn wrap(w: gltf::texture::WrappingMode) -> Wrap {
@@ -310,12 +353,19 @@ fn material(m: &gltf::Material, textures: &mut Textures) -> std::result::Result<
     let pbr = m.pbr_metallic_roughness();
     let [r, g, b, _] = pbr.base_color_factor();
     let texture = match pbr.base_color_texture() {
-        Some(info) => Some(textures.get(info.texture(), info.tex_coord(), info.texture_transform(), true)?),
+        Some(info) => {
+            let transform = info.texture_transform().map(TextureTransform::of_info);
+            Some(textures.get(info.texture(), info.tex_coord(), transform, true)?)
+        }
         None => None,
     };
     let normal_map = match m.normal_texture() {
         Some(n) => Some(TangentNormalMap {
-            texture: textures.get(n.texture(), n.tex_coord(), None, false)?,
+            texture: {
+                let transform =
+                    n.extension_value("KHR_texture_transform").map(TextureTransform::of_json).transpose()?;
+                textures.get(n.texture(), n.tex_coord(), transform, false)?
+            },
             strength: n.scale(),
             convention: Convention::OpenGl,
         }),
