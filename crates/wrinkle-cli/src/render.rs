@@ -139,7 +139,14 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if args.frames > 1 && !args.turntable {
         return Err(Error::Invalid("--frames > 1 needs --turntable (the only animation so far)".into()));
     }
+    let loading = std::time::Instant::now();
     let scene = args.frame.load_scene(args.scene.as_deref())?;
+    if args.stats {
+        eprintln!(
+            "scene: loaded in {:.1} ms (models, textures and their pyramids)",
+            loading.elapsed().as_secs_f64() * 1e3
+        );
+    }
     let animated = args.turntable && args.frames > 1;
     let bar = animated.then(|| {
         let bar = ProgressBar::new(args.frames as u64);
