@@ -141,8 +141,8 @@ impl TriangleMesh {
     /// Merges the corners of each vertex of the mesh before `split_corners` (`original`, per corner) that
     /// MikkTSpace gave the same tangent, bit for bit, so a smooth mesh is back to one vertex per corner
     /// shared by its triangles: fewer to project per frame. The corners of one vertex differ only in their
-    /// tangents, so those alone are compared, along a short list per vertex (no hashing: the weld of a
-    /// 1M-triangle mesh took 0.9 s with a hash map of each corner's data, 1 s in all being MikkTSpace's 2 s).
+    /// tangents, so those alone are compared, along a short list per vertex: no hashing of whole vertices
+    /// (BENCHMARKS.md, "Meshes").
     fn weld(&mut self, original: &[u32]) {
         const NONE: u32 = u32::MAX;
         let vertices = original.iter().map(|&o| o as usize + 1).max().unwrap_or(0);
