@@ -9,7 +9,6 @@ use crate::render::load_scene;
 use crate::sheet;
 use clap::Args;
 use glam::Vec2;
-use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
@@ -152,9 +151,7 @@ fn psnr(rmse: f64) -> f64 {
 pub fn run(args: &FiltersArgs) -> Result<()> {
     crate::set_threads(args.threads)?;
     crate::output::require_extension(&args.output, &["png"])?;
-    if args.columns == 0 || args.columns > 64 {
-        return Err(Error::Invalid(format!("--columns must be between 1 and 64, got {}", args.columns)));
-    }
+    sheet::check_columns(args.columns)?;
     let names: Vec<String> = if args.filters.is_empty() {
         DEFAULT_FILTERS.iter().map(|s| s.to_string()).collect()
     } else {
@@ -178,8 +175,7 @@ pub fn run(args: &FiltersArgs) -> Result<()> {
         return Err(Error::Invalid("the scene has no colour texture to filter".into()));
     }
 
-    let bar = ProgressBar::new(filters.len() as u64 + 1);
-    bar.set_style(ProgressStyle::with_template("{bar:40} {pos}/{len} panels  {msg}").expect("valid template"));
+    let bar = sheet::progress(filters.len() + 1);
     bar.set_message("ground truth");
     scene.set_texture_filter(Filter::Reference);
     let truth = render(&scene, &RenderOptions { spp: 16, ..options.clone() })?.color;

@@ -4,8 +4,6 @@
 
 use crate::sheet::{self, Panel};
 use clap::Args;
-use glam::Vec3;
-use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use wrinkle::bump::generators::glyph;
@@ -15,7 +13,7 @@ use wrinkle::image::{io, Image};
 use wrinkle::mapping::MappedTexture;
 use wrinkle::scene::parse_mapping_text;
 use wrinkle::texture::{FilteredTexture, TextureOptions};
-use wrinkle::{render, Error, RenderOptions, Result, Scene};
+use wrinkle::{render, RenderOptions, Result, Scene};
 
 #[derive(Args, Debug)]
 #[command(
@@ -99,9 +97,7 @@ const TEAPOT: &str = include_str!("../../../scenes/teapot.toml");
 pub fn run(args: &MappingsArgs) -> Result<()> {
     crate::set_threads(args.threads)?;
     crate::output::require_extension(&args.output, &["png"])?;
-    if args.columns == 0 || args.columns > 64 {
-        return Err(Error::Invalid(format!("--columns must be between 1 and 64, got {}", args.columns)));
-    }
+    sheet::check_columns(args.columns)?;
     let options = RenderOptions { width: args.width, height: args.height, spp: args.spp, ..RenderOptions::default() };
     options.validate()?;
     let mut scene = Scene::parse(VIEW, Path::new("."))?;
@@ -109,8 +105,7 @@ pub fn run(args: &MappingsArgs) -> Result<()> {
         Shape::Mesh(vec![MeshPart { mesh: Arc::new(unit_teapot()?), material: 1, two_sided: true }]);
     let texture = Arc::new(FilteredTexture::new(&lettered_checkerboard(), TextureOptions::default()));
 
-    let bar = ProgressBar::new(MAPPINGS.len() as u64);
-    bar.set_style(ProgressStyle::with_template("{bar:40} {pos}/{len} panels  {msg}").expect("valid template"));
+    let bar = sheet::progress(MAPPINGS.len());
     let mut panels = Vec::new();
     for (label, text) in MAPPINGS {
         bar.set_message(label);
@@ -133,7 +128,7 @@ fn unit_teapot() -> Result<TriangleMesh> {
     for (_, part) in Scene::parse(TEAPOT, Path::new("."))?.world_meshes(12)? {
         mesh.append(&part);
     }
-    let (lo, hi) = mesh.positions.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(l, h), &p| (l.min(p), h.max(p)));
+    let (lo, hi) = mesh.bounds();
     let (centre, half) = ((lo + hi) * 0.5, ((hi - lo) * 0.5).max_element());
     mesh.positions.iter_mut().for_each(|p| *p = (*p - centre) / half);
     Ok(mesh)

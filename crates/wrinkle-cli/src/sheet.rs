@@ -1,14 +1,31 @@
 //! Contact sheets: rendered panels in a grid, each under a label in font8x8 letters, as 8-bit sRGB. What
 //! `wrinkle filters` and `wrinkle mappings` draw.
 
+use indicatif::{ProgressBar, ProgressStyle};
 use wrinkle::bump::generators::glyph;
 use wrinkle::image::color::SrgbEncoder;
 use wrinkle::image::Image;
+use wrinkle::{Error, Result};
 
 /// One panel: its label and its linear RGB pixels, `width` x `height` as every panel of the sheet.
 pub struct Panel {
     pub label: String,
     pub pixels: Vec<[f32; 3]>,
+}
+
+/// `--columns`: panels per row, 1 to 64.
+pub fn check_columns(columns: usize) -> Result<()> {
+    if columns == 0 || columns > 64 {
+        return Err(Error::Invalid(format!("--columns must be between 1 and 64, got {columns}")));
+    }
+    Ok(())
+}
+
+/// The bar over a sheet's `panels`, its message naming the panel being rendered.
+pub fn progress(panels: usize) -> ProgressBar {
+    let bar = ProgressBar::new(panels as u64);
+    bar.set_style(ProgressStyle::with_template("{bar:40} {pos}/{len} panels  {msg}").expect("valid template"));
+    bar
 }
 
 /// Height of the label strip above each panel, and the gap between panels.

@@ -114,8 +114,7 @@ impl TriangleMesh {
         }
         let original: Vec<u32> = self.triangles.iter().flatten().copied().collect();
         self.split_corners();
-        let (min, max) =
-            self.positions.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+        let (min, max) = self.bounds();
         let extent = (max.as_dvec3() - min.as_dvec3()).max_element();
         // Beyond 2^30 its squared cross products overflow f32.
         let scale = if extent > (1u64 << 30) as f64 { 0.5f32.powi(extent.log2().ceil() as i32) } else { 1.0 };
@@ -213,6 +212,11 @@ impl TriangleMesh {
                 self.triangles.clone()
             },
         }
+    }
+
+    /// The corners of the box around the positions (infinite and inverted for a mesh without any).
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        self.positions.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| (lo.min(p), hi.max(p)))
     }
 
     /// `other`'s triangles added to this mesh (one model of several parts). Vertex data the two do not
