@@ -19,6 +19,7 @@ fn quad(tangents: Option<[f32; 4]>, mirrored: bool) -> Primitive {
         uvs: Some(vec![[u(0.0), 1.0], [u(1.0), 1.0], [u(1.0), 0.0], [u(0.0), 0.0]]),
         tangents: tangents.map(|t| vec![t; 4]),
         indices: vec![0, 1, 2, 0, 2, 3],
+        ..Primitive::default()
     }
 }
 
@@ -338,4 +339,111 @@ fn gltf_normal_texture_transform_picks_the_quadrant_the_specification_implies() 
     let text = "[camera]\neye = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\n\n[[object]]\nshape = \"mesh\"\nfile = \"bad.glb\"\n";
     let err = Scene::parse(text, &dir).err().expect("a malformed transform is refused").to_string();
     assert!(err.contains("bad.glb") && err.contains("KHR_texture_transform") && err.contains("scale"), "{err}");
+}
+
+/// The quad with set 1 = set 0 mirrored in u (and a texel column per quarter of the quad in the images).
+fn quad_with_mirrored_set_1() -> Primitive {
+    let mut q = quad(None, false);
+    q.uvs1 = q.uvs.as_ref().map(|uvs| uvs.iter().map(|[u, v]| [1.0 - u, *v]).collect());
+    q
+}
+
+/// TEXCOORD_1: a texture that reads set 1 (by its `texCoord`, or KHR_texture_transform's) is laid with
+/// it; a normal map on set 1 gets MikkTSpace tangents along set 1, so the mirrored set turns the tangent
+/// as the mirrored quad did; a bump on set 1 = 2 set 0 is the bump repeated twice on set 0.
+#[test]
+fn gltf_second_texture_coordinate_set_lays_textures_normal_maps_and_bumps() {
+    let dir = scratch_dir("gltf-texcoord-1");
+    // Red in the left half of the image, green in the right: two texels each, so the quarters' centres
+    // read one colour under bilinear magnification.
+    let path = dir.join("halves.png");
+    let texels: Vec<u8> = [[255, 0, 0], [255, 0, 0], [0, 255, 0], [0, 255, 0]].concat();
+    wrinkle::image::io::write_png_rgb8(&path, 4, 1, &texels).unwrap();
+    let halves = std::fs::read(&path).unwrap();
+    let scene = |file: &str, material: &str| {
+        format!(
+            "[camera]\neye = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\n\n[[light]]\ntype = \"ambient\"\n\n\
+             [[object]]\nshape = \"mesh\"\nfile = \"{file}\"\n{material}"
+        )
+    };
+    let cases = [
+        ("set 0", "{\"index\": 0}", false),
+        ("set 1", "{\"index\": 0, \"texCoord\": 1}", true),
+        (
+            "set 1 by KHR_texture_transform",
+            "{\"index\": 0, \"extensions\": {\"KHR_texture_transform\": {\"texCoord\": 1}}}",
+            true,
+        ),
+    ];
+    for (k, (name, info, mirrored)) in cases.into_iter().enumerate() {
+        let material = format!("{{\"pbrMetallicRoughness\": {{\"baseColorTexture\": {info}}}}}");
+        let file = File { primitive: quad_with_mirrored_set_1(), matrix: None, material, png: Some(halves.clone()) };
+        std::fs::write(dir.join(format!("c{k}.glb")), file.write(Layout::Binary, "").0).unwrap();
+        let frame = render_all_aovs(&scene(&format!("c{k}.glb"), ""), &dir, 33, 33, 1);
+        // The quad spans about pixels 6 to 27: pixels 10 and 22 lie in its left and right quarters.
+        let [left, right] = [10, 22].map(|x| d3(Vec3::from(frame.color[16 * 33 + x])));
+        let (red, green) = (DVec3::new(1.0, 0.0, 0.0), DVec3::new(0.0, 1.0, 0.0));
+        let want = if mirrored { [green, red] } else { [red, green] };
+        for (got, want) in [left, right].into_iter().zip(want) {
+            assert!((got - want).abs().max_element() < 0.02, "{name}: {got} against {want}");
+        }
+        // The uv AOV shows the set the colour texture read.
+        let u = frame.uv.as_ref().unwrap()[16 * 33 + 10][0];
+        assert!(if mirrored { u > 0.7 } else { u < 0.3 }, "{name}: u = {u}");
+    }
+
+    let tilt = DVec3::new(0.35, -0.45, 0.82);
+    let texel = texel_of(tilt);
+    let t = decoded(texel);
+    let material = "{\"normalTexture\": {\"index\": 0, \"texCoord\": 1}}".to_string();
+    let file = File { primitive: quad_with_mirrored_set_1(), matrix: None, material, png: Some(png_of(&dir, texel)) };
+    std::fs::write(dir.join("n.glb"), file.write(Layout::Binary, "").0).unwrap();
+    let got = centre_normal(&dir, "n.glb");
+    let want = DVec3::new(-t.x, t.y, t.z);
+    assert!(angle_deg(got, want) < 0.5, "normal map on set 1: {got} against {want}");
+
+    // Set 1 = 2 set 0: a bump on set 1 against the same bump repeated twice on set 0 (normals within
+    // float rounding of the two chains).
+    let mut primitive = quad(None, false);
+    primitive.uvs1 = primitive.uvs.as_ref().map(|uvs| uvs.iter().map(|[u, v]| [2.0 * u, 2.0 * v - 1.0]).collect());
+    let file = File { primitive, matrix: None, material: "{}".into(), png: None };
+    std::fs::write(dir.join("b.glb"), file.write(Layout::Binary, "").0).unwrap();
+    let bump = |mapping: &str| {
+        format!(
+            "[object.material.bump]\ngenerator = {{ kind = \"rivets\", size = 128, count = 2, radius = 0.3 }}\n\
+             scale = 0.05\n{mapping}\n"
+        )
+    };
+    let normals = |mapping: &str| render_all_aovs(&scene("b.glb", &bump(mapping)), &dir, 48, 48, 1).normal.unwrap();
+    let (set1, repeated) = (normals("mapping = { type = \"uv\", set = 1 }"), normals("repeat = [2.0, 2.0]"));
+    let flat = normals("repeat = [0.0001, 0.0001]");
+    let (mut worst, mut bumped) = (0.0f64, 0usize);
+    for ((a, b), f) in set1.iter().zip(&repeated).zip(&flat) {
+        worst = worst.max(angle_deg(d3(Vec3::from(*a)), d3(Vec3::from(*b))));
+        bumped += usize::from(angle_deg(d3(Vec3::from(*b)), d3(Vec3::from(*f))) > 2.0);
+    }
+    assert!(worst < 0.05, "bump on set 1 against repeat 2 on set 0: {worst} degrees apart");
+    assert!(bumped > 100, "the rivets must show: {bumped} pixels bumped");
+
+    // A material that reads set 1 on a primitive without it, a texture on set 2, set 1 on a parametric
+    // surface: one line each.
+    let material = "{\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 0, \"texCoord\": 1}}}";
+    let file =
+        File { primitive: quad(None, false), matrix: None, material: material.into(), png: Some(halves.clone()) };
+    std::fs::write(dir.join("no1.glb"), file.write(Layout::Binary, "").0).unwrap();
+    let err = Scene::parse(&scene("no1.glb", ""), &dir).err().expect("set 1 missing").to_string();
+    assert!(err.contains("no1.glb") && err.contains("TEXCOORD_1"), "{err}");
+    let material = "{\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 0, \"texCoord\": 2}}}";
+    let file =
+        File { primitive: quad_with_mirrored_set_1(), matrix: None, material: material.into(), png: Some(halves) };
+    std::fs::write(dir.join("set2.glb"), file.write(Layout::Binary, "").0).unwrap();
+    let err = Scene::parse(&scene("set2.glb", ""), &dir).err().expect("set 2").to_string();
+    assert!(err.contains("set2.glb") && err.contains("TEXCOORD_2"), "{err}");
+    let sphere = "[camera]\neye = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\n\n[[object]]\nshape = \"sphere\"\n[object.material.bump]\ngenerator = { kind = \"rivets\" }\n\
+                  mapping = { type = \"uv\", set = 1 }\n";
+    let err = Scene::parse(sphere, &dir).err().expect("set 1 on a sphere").to_string();
+    assert!(err.contains("set 1") && err.contains("sphere"), "{err}");
+    let bad_set = sphere.replace("set = 1", "set = 2");
+    let err = Scene::parse(&bad_set, &dir).err().expect("set 2 in a scene").to_string();
+    assert!(err.contains("set") && err.contains("0 to 1"), "{err}");
 }

@@ -2,7 +2,8 @@
 //! all lanes together; the other surfaces lane by lane through their scalar frames.
 
 use super::surface::{Surface, SurfaceFrame};
-use crate::lanes::{CmpGe, CmpLe, F8, LANES, V3};
+use crate::lanes::{CmpGe, CmpGt, CmpLe, F8, LANES, V3};
+use crate::texture::Footprint8;
 use std::f32::consts::{PI, TAU};
 use wide::CmpEq;
 
@@ -64,6 +65,23 @@ impl Frame8 {
             pv: self.pv + self.puv * du + self.pvv * dv,
             ..*self
         }
+    }
+
+    /// How the unit normal Pu x Pv / |Pu x Pv| changes across one pixel step in x and in y, where (u,v)
+    /// change by `footprint`: N's derivatives Nu = Puu x Pv + Pu x Puv and Nv = Puv x Pv + Pu x Pvv, less
+    /// their part along N, over |N|.
+    #[inline]
+    pub fn unit_normal_change(&self, footprint: &Footprint8) -> [V3; 2] {
+        let n = self.pu.cross(self.pv);
+        let len = n.length();
+        let unit = n * (F8::ONE / len);
+        let nu = self.puu.cross(self.pv) + self.pu.cross(self.puv);
+        let nv = self.puv.cross(self.pv) + self.pu.cross(self.pvv);
+        let turn = |d: V3| {
+            let t = (d - unit * unit.dot(d)) * (F8::ONE / len);
+            V3::select(len.cmp_gt(F8::ZERO), t, V3::ZERO)
+        };
+        [turn(nu * footprint.dudx + nv * footprint.dvdx), turn(nu * footprint.dudy + nv * footprint.dvdy)]
     }
 }
 
@@ -157,6 +175,31 @@ mod tests {
         for i in 0..LANES {
             let (s, c) = sin_cos_turns(t.as_array_ref()[i]);
             assert!((s - s8.as_array_ref()[i]).abs() < 1e-7 && (c - c8.as_array_ref()[i]).abs() < 1e-7);
+        }
+    }
+
+    /// The unit normal's change across a step of (u,v) against the central difference of the exact unit
+    /// normals, on a torus (two different curvatures, and both signs of Gaussian curvature).
+    #[test]
+    fn unit_normal_change_is_the_normals_difference_across_the_step() {
+        let s = Surface::Torus { major_radius: 1.0, minor_radius: 0.3 };
+        let (u, v) =
+            (F8::new([0.0, 0.1, 0.2, 0.35, 0.5, 0.6, 0.8, 0.95]), F8::new([0.05, 0.2, 0.3, 0.45, 0.6, 0.7, 0.85, 0.9]));
+        let h = 1e-3;
+        let footprint =
+            Footprint8 { dudx: F8::splat(h), dvdx: F8::splat(0.5 * h), dudy: F8::splat(-0.3 * h), dvdy: F8::splat(h) };
+        let [dx, dy] = s.frame8(u, v).unit_normal_change(&footprint);
+        let normal = |u: f32, v: f32| {
+            let f = s.frame(u, v);
+            f.pu.cross(f.pv).normalize()
+        };
+        for i in 0..LANES {
+            let (u, v) = (u.as_array_ref()[i], v.as_array_ref()[i]);
+            let fp = footprint.lane(i);
+            let central = |du: f32, dv: f32| normal(u + du / 2.0, v + dv / 2.0) - normal(u - du / 2.0, v - dv / 2.0);
+            for (got, want) in [(dx.lane(i), central(fp.dudx, fp.dvdx)), (dy.lane(i), central(fp.dudy, fp.dvdy))] {
+                assert!((got - want).length() < 2e-3 * want.length() + 1e-6, "lane {i}: {got} vs {want}");
+            }
         }
     }
 

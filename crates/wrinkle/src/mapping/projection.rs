@@ -62,6 +62,8 @@ impl Default for SphereRange {
 pub enum Projection {
     /// The surface's own (u, v).
     Uv,
+    /// A mesh's second texture coordinate set (glTF's TEXCOORD_1).
+    SecondUv,
     Planar,
     Cylindrical,
     Spherical(SphereRange),
@@ -129,7 +131,7 @@ impl Projection {
     pub fn coords(&self, at: &Point, c: &Choice) -> Vec2 {
         let q = at.q;
         match *self {
-            Projection::Uv => unreachable!("the uv projection reads the surface's (u,v)"),
+            Projection::Uv | Projection::SecondUv => unreachable!("a uv projection reads the surface's coordinates"),
             Projection::Planar => plane_st(q),
             Projection::Cylindrical => cylinder_st(q),
             Projection::Spherical(range) => sphere_st(q, &range),
@@ -160,6 +162,15 @@ impl Projection {
         }
     }
 
+    /// Whether the coordinates follow the normal continuously (not only through a discrete choice), so
+    /// that their footprint needs the normal's change across the pixel.
+    pub fn reads_normal(&self) -> bool {
+        matches!(
+            self,
+            Projection::SphereMap | Projection::TwoPart { projector: Projector::Normal | Projector::Reflected, .. }
+        )
+    }
+
     /// Whether s wraps around (the angle of cylinders and spheres): differences of s are taken modulo one.
     pub fn wraps(&self) -> bool {
         matches!(
@@ -173,15 +184,19 @@ impl Projection {
 
 /// The point in mapping space from object space (`to_mapping`), with the eye-space values texgen needs.
 pub fn point(p: Vec3, n: Vec3, eye: Vec3, to_mapping: &Affine3A, object_to_eye: &Affine3A) -> Point {
-    let normals = |m: &Affine3A, n: Vec3| (Mat3::from(m.matrix3).inverse().transpose() * n).normalize_or_zero();
     let q = to_mapping.transform_point3(p);
     Point {
         q,
-        n: normals(to_mapping, n),
+        n: normal_through(to_mapping, n),
         view: (q - to_mapping.transform_point3(eye)).normalize_or_zero(),
         q_eye: object_to_eye.transform_point3(p),
-        n_eye: normals(object_to_eye, n),
+        n_eye: normal_through(object_to_eye, n),
     }
+}
+
+/// The unit normal `n` carried by `m` (its inverse transpose).
+pub fn normal_through(m: &Affine3A, n: Vec3) -> Vec3 {
+    (Mat3::from(m.matrix3).inverse().transpose() * n).normalize_or_zero()
 }
 
 fn plane_st(q: Vec3) -> Vec2 {

@@ -17,7 +17,7 @@ use crate::raster::setup::ProjectedVertex;
 use crate::raster::visibility::EMPTY;
 use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
 use crate::scene::Scene;
-use crate::shade::{ShadeContext, ShadedSample, SurfaceSamples8};
+use crate::shade::{MappingNeeds, ShadeContext, ShadedSample, SurfaceSamples8};
 use crate::texture::{Filter, Footprint8};
 use crate::{Error, Result};
 use glam::{Affine3A, Quat, Vec2, Vec3};
@@ -150,6 +150,7 @@ pub fn render_with_progress(
         ortho_to_eye: (!camera.is_perspective()).then(|| camera.camera_to_world.transform_vector3(Vec3::Z).normalize()),
         lights: &scene.lights,
         materials: &scene.materials,
+        needs: scene.materials.iter().map(MappingNeeds::of).collect(),
         bump_enabled: options.bump,
         bump_filter: options.bump_filter,
     };
@@ -437,19 +438,21 @@ impl TileJob<'_> {
                 };
                 parametric = refine_uv8(self.camera, surface, &inst.object_to_camera, uv, (sx, sy), max_step);
                 let footprint = Footprint8 { dudx, dvdx, dudy, dvdy };
-                SurfaceSamples8 { frame: &parametric.1, uv: parametric.0, footprint, triangles, mesh: None }
+                SurfaceSamples8 { frame: &parametric.1, uv: parametric.0, footprint, uv1: None, triangles, mesh: None }
             }
             Primitive::Mesh(mesh) => {
                 // The mesh's own triangle numbers: the object's numbering less its earlier primitives'.
                 let first = self.first_triangles[packet.surface as usize];
                 let local = triangles.map(|t| t - first);
                 let rays = self.camera.rays8(sx, sy, self.sample_cell).transformed(&inst.camera_to_object);
-                mesh_sample = mesh_lanes::sample8(mesh, &local, &rays);
+                let second_set = self.shade.needs[inst.material].second_uv;
+                mesh_sample = mesh_lanes::sample8(mesh, &local, &rays, second_set);
                 let m = &mesh_sample;
                 SurfaceSamples8 {
                     frame: &m.frame,
                     uv: m.uv,
                     footprint: m.footprint,
+                    uv1: m.uv1.as_ref(),
                     triangles,
                     mesh: Some(m.orientation),
                 }

@@ -12,7 +12,7 @@ use crate::bump::TangentNormalMap;
 use crate::geometry::TriangleMesh;
 use crate::image::color::srgb_to_linear;
 use crate::image::Image;
-use crate::mapping::{MappedTexture, Mapping, UvTransform};
+use crate::mapping::{MappedTexture, Mapping, Projection, UvTransform};
 use crate::shade::{Material, Phong};
 use crate::texture::reconstruct::Kernel;
 use crate::texture::{Filter, FilterOptions, FilteredTexture, Texture, TextureOptions, Wrap};
@@ -186,8 +186,11 @@ impl Textures<'_> {
         srgb: bool,
     ) -> std::result::Result<MappedTexture, String> {
         let set = transform.as_ref().and_then(|t| t.tex_coord).unwrap_or(tex_coord);
-        if set != 0 {
-            return Err(format!("texture {} reads TEXCOORD_{set}; only TEXCOORD_0 is drawn", texture.index()));
+        if set > 1 {
+            return Err(format!(
+                "texture {} reads TEXCOORD_{set}; TEXCOORD_0 and TEXCOORD_1 are drawn",
+                texture.index()
+            ));
         }
         let sampler = texture.sampler();
         let image = texture.source().index();
@@ -207,7 +210,8 @@ impl Textures<'_> {
             }
         };
         let uv = transform.map_or(UvTransform::IDENTITY, |t| t.uv_transform());
-        Ok(MappedTexture { texture: built, mapping: Mapping::uv(uv) })
+        let projection = if set == 1 { Projection::SecondUv } else { Projection::Uv };
+        Ok(MappedTexture { texture: built, mapping: Mapping { projection, ..Mapping::uv(uv) } })
     }
 }
 

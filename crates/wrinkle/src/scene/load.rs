@@ -13,7 +13,7 @@ use crate::geometry::{MeshPart, Shape, Surface, Transform};
 use crate::image::io;
 use crate::light::Light;
 use crate::mapping::polygon::QuadMapping;
-use crate::mapping::{Mapping, Projection as MapProjection, UvTransform};
+use crate::mapping::{Projection as MapProjection, UvTransform};
 use crate::procedural::solid::Space;
 use crate::raster::Projection;
 use crate::shade::{Material, Phong};
@@ -265,6 +265,12 @@ fn parse_object(path: &str, v: &Value, base: &Path, materials: &mut Vec<Material
     if let (Some(uv), Shape::Surface(Surface::Patch { corners })) = (f.get("uv_corners"), &shape) {
         quad_mapped(&mut material, *corners, &uv_list(&f.at("uv_corners"), uv, 4)?);
     }
+    if material.reads_second_uv() {
+        return Err(Error::scene(
+            f.at("material"),
+            format!("a mapping reads texture coordinate set 1, which only meshes carry (shape \"{kind}\")"),
+        ));
+    }
     materials.push(material);
     Ok(Object { shape, transform, material: materials.len() - 1, affine })
 }
@@ -274,12 +280,7 @@ fn parse_object(path: &str, v: &Value, base: &Path, materials: &mut Vec<Material
 fn quad_mapped(material: &mut Material, corners: [Vec3; 4], uv: &[Vec2]) {
     let quad =
         MapProjection::Quad(QuadMapping { corners: corners.map(|c| c.as_dvec3()), uv: std::array::from_fn(|k| uv[k]) });
-    let mut mappings: Vec<&mut Mapping> = Vec::new();
-    mappings.extend(material.texture.as_mut().map(|t| &mut t.mapping));
-    mappings.extend(material.specular_map.as_mut().map(|t| &mut t.mapping));
-    mappings.extend(material.normal_map.as_mut().map(|t| &mut t.texture.mapping));
-    mappings.extend(material.bump.as_mut().map(|b| &mut b.mapping));
-    for m in mappings.into_iter().filter(|m| m.projection == MapProjection::Uv) {
+    for m in material.mappings_mut().filter(|m| m.projection == MapProjection::Uv) {
         m.projection = quad;
     }
 }
@@ -298,10 +299,15 @@ fn parse_mesh(f: &Fields, base: &Path, materials: &mut Vec<Material>) -> Result<
             None => part.material,
         };
         let mut mesh = part.mesh;
-        // Normal maps need tangents; MikkTSpace makes them where the file has none (contained: a
-        // third-party crate indexing out of bounds on a mesh it did not expect is still one line).
-        if material.normal_map.is_some() && mesh.tangents.is_empty() {
-            let made = contain_panics(|| mesh.generate_tangents(0))
+        if material.reads_second_uv() && mesh.uvs(1).is_none() {
+            return Err(Error::read(&file, "has no texture coordinate set 1 (TEXCOORD_1), which its material reads"));
+        }
+        // Normal maps need tangents, along the set the map is laid with; MikkTSpace makes them where the
+        // file has none (contained: a third-party crate indexing out of bounds on a mesh it did not expect
+        // is still one line).
+        if let (Some(map), true) = (&material.normal_map, mesh.tangents.is_empty()) {
+            let set = usize::from(matches!(map.texture.mapping.projection, MapProjection::SecondUv));
+            let made = contain_panics(|| mesh.generate_tangents(set))
                 .map_err(|why| Error::read(&file, format!("MikkTSpace failed on its triangles: {why}")))?;
             if !made {
                 return Err(Error::read(&file, "has a normal map but no texture coordinates to lay it with"));

@@ -11,9 +11,9 @@ use glam::{Affine3A, Vec4};
 use toml::Value;
 
 const FIELDS: &[&str] =
-    &["type", "placement", "longitude", "latitude", "surface", "projector", "flip", "s", "t", "points", "uv"];
+    &["type", "set", "placement", "longitude", "latitude", "surface", "projector", "flip", "s", "t", "points", "uv"];
 const TYPES: &[(&str, &[&str])] = &[
-    ("uv", &[]),
+    ("uv", &["set"]),
     ("planar", &["placement"]),
     ("cylindrical", &["placement"]),
     ("spherical", &["placement", "longitude", "latitude"]),
@@ -68,7 +68,11 @@ pub fn parse_mapping(path: &str, v: Option<&Value>, transform: UvTransform) -> R
         }
     };
     let projection = match kind {
-        "uv" => Projection::Uv,
+        // glTF asks viewers to draw two sets; a mesh's loader keeps both.
+        "uv" => match f.integer_where("set", 0, 0, 1)? {
+            0 => Projection::Uv,
+            _ => Projection::SecondUv,
+        },
         "planar" => Projection::Planar,
         "cylindrical" => Projection::Cylindrical,
         "spherical" => Projection::Spherical(range()?),

@@ -14,7 +14,7 @@ use crate::geometry::mesh_lanes::MeshFrame8;
 use crate::geometry::Instance;
 use crate::lanes::{CmpLt, F8, LANES, V3};
 use crate::light::Light;
-use crate::texture::{Filter, FilterOptions, Footprint8, LookupContext8, SurfaceLanes};
+use crate::texture::{Filter, FilterOptions, Footprint8, LookupContext8, SurfaceLanes, UvSet8};
 use glam::Vec3;
 
 /// What the shader needs besides the surface: the eye, the lights, the materials and switches.
@@ -24,9 +24,26 @@ pub struct ShadeContext<'a> {
     pub ortho_to_eye: Option<Vec3>,
     pub lights: &'a [Light],
     pub materials: &'a [Material],
+    /// What each material's mappings read beyond the first set's (u,v), found once per frame.
+    pub needs: Vec<MappingNeeds>,
     pub bump_enabled: bool,
     /// Replaces every bump's own filter when set (`--bump-filter`).
     pub bump_filter: Option<Filter>,
+}
+
+/// What a material's mappings need of a sample beyond its position, frame and (u,v).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct MappingNeeds {
+    /// The unit normal's change across the pixel (projections that follow the normal).
+    pub normal_change: bool,
+    /// A mesh's texture coordinate set 1.
+    pub second_uv: bool,
+}
+
+impl MappingNeeds {
+    pub fn of(material: &Material) -> MappingNeeds {
+        MappingNeeds { normal_change: material.reads_normal_change(), second_uv: material.reads_second_uv() }
+    }
 }
 
 /// The result of shading one sample, with the data of the AOVs.
@@ -62,6 +79,8 @@ pub struct SurfaceSamples8<'a> {
     pub frame: &'a Frame8,
     pub uv: (F8, F8),
     pub footprint: Footprint8,
+    /// A mesh's texture coordinate set 1, where the material reads it.
+    pub uv1: Option<&'a UvSet8>,
     /// Each sample's triangle, numbered within its object.
     pub triangles: [u32; LANES],
     /// What a mesh adds: which way Pu x Pv points and its own tangent frame. `None` on parametric
@@ -78,9 +97,18 @@ impl ShadeContext<'_> {
         let frame = at.frame;
         let mut surface = SurfaceLanes::new(frame.p, frame.pu, frame.pv, &at.footprint, inst.object, at.triangles);
         surface.object_to_eye = inst.object_to_camera;
-        if let Some(m) = &at.mesh {
-            surface.n = surface.n * m.side;
-            (surface.dpdx, surface.dpdy) = (m.dpdx, m.dpdy);
+        surface.uv1 = at.uv1;
+        let normal_change = self.needs[inst.material].normal_change;
+        match &at.mesh {
+            Some(m) => {
+                surface.n = surface.n * m.side;
+                (surface.dpdx, surface.dpdy) = (m.dpdx, m.dpdy);
+                if normal_change {
+                    [surface.dndx, surface.dndy] = m.normal_change;
+                }
+            }
+            None if normal_change => [surface.dndx, surface.dndy] = frame.unit_normal_change(&at.footprint),
+            None => {}
         }
         let n_geo = surface.n;
         let ctx = LookupContext8 { surface: &surface, u: at.uv.0, v: at.uv.1, footprint: at.footprint };

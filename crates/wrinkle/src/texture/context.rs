@@ -2,6 +2,10 @@
 //! sample is on the surface, how large its pixel is there, and which primitive it belongs to. A mapping
 //! (crate::mapping) rewrites its texture coordinates; a texture reads what it needs: an image the
 //! coordinates and their footprint, a solid texture the point and the pixel's size.
+//!
+//! A mesh may carry a second texture coordinate set (glTF's TEXCOORD_1; glTF asks viewers to draw two):
+//! the context holds it beside the first, with its derivatives along the first set's (u,v), which is what
+//! the surface tangents Pu, Pv and so a bump's chain rule are taken along.
 
 use super::{Footprint, Footprint8};
 use crate::lanes::{F8, LANES, V3};
@@ -31,9 +35,45 @@ pub struct LookupContext {
     /// replaces them with its own.
     pub uv: Vec2,
     pub footprint: Footprint,
+    /// The second texture coordinate set (zero where the surface has none).
+    pub uv1: UvSet,
+    /// How the unit normal changes across one pixel step in x and in y (zero unless a mapping that reads
+    /// the normal asked for it): the footprint of projections along the normal or the reflected ray.
+    pub dndx: Vec3,
+    pub dndy: Vec3,
     pub primitive: PrimitiveId,
     /// Object space to eye (camera) space, for mappings defined in eye coordinates.
     pub object_to_eye: Affine3A,
+}
+
+/// A texture coordinate set at one sample: the coordinates, their screen derivatives, and their
+/// derivatives along the surface parameters, d(s,t)/du and d(s,t)/dv.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct UvSet {
+    pub uv: Vec2,
+    pub footprint: Footprint,
+    pub jacobian: [Vec2; 2],
+}
+
+/// `UvSet` on eight lanes.
+#[derive(Clone, Copy, Debug)]
+pub struct UvSet8 {
+    pub u: F8,
+    pub v: F8,
+    pub footprint: Footprint8,
+    /// d(s,t)/du and d(s,t)/dv.
+    pub jacobian: [(F8, F8); 2],
+}
+
+impl UvSet8 {
+    pub fn lane(&self, i: usize) -> UvSet {
+        let at = |x: F8| x.as_array_ref()[i];
+        UvSet {
+            uv: Vec2::new(at(self.u), at(self.v)),
+            footprint: self.footprint.lane(i),
+            jacobian: self.jacobian.map(|(s, t)| Vec2::new(at(s), at(t))),
+        }
+    }
 }
 
 impl LookupContext {
@@ -49,6 +89,9 @@ impl LookupContext {
             dpdv,
             uv,
             footprint,
+            uv1: UvSet::default(),
+            dndx: Vec3::ZERO,
+            dndy: Vec3::ZERO,
             primitive: PrimitiveId::default(),
             object_to_eye: Affine3A::IDENTITY,
         }
@@ -69,7 +112,7 @@ impl LookupContext {
 /// What eight samples of one primitive share with every lookup besides their texture coordinates: the
 /// surface at each (object space), as structures of arrays.
 #[derive(Clone, Copy, Debug)]
-pub struct SurfaceLanes {
+pub struct SurfaceLanes<'a> {
     pub p: V3,
     pub dpdx: V3,
     pub dpdy: V3,
@@ -77,12 +120,17 @@ pub struct SurfaceLanes {
     pub n: V3,
     pub dpdu: V3,
     pub dpdv: V3,
+    /// The unit normal's change per pixel step in x and in y (zero unless a mapping reads it).
+    pub dndx: V3,
+    pub dndy: V3,
+    /// A mesh's second texture coordinate set, where the material reads it.
+    pub uv1: Option<&'a UvSet8>,
     pub object: u32,
     pub triangles: [u32; LANES],
     pub object_to_eye: Affine3A,
 }
 
-impl SurfaceLanes {
+impl SurfaceLanes<'_> {
     /// Eight points with tangents `dpdu`, `dpdv` whose (u,v) screen derivatives are `footprint`:
     /// dP/dx = Pu du/dx + Pv dv/dx on every lane.
     #[inline]
@@ -94,6 +142,9 @@ impl SurfaceLanes {
             n: dpdu.cross(dpdv),
             dpdu,
             dpdv,
+            dndx: V3::ZERO,
+            dndy: V3::ZERO,
+            uv1: None,
             object,
             triangles,
             object_to_eye: Affine3A::IDENTITY,
@@ -111,7 +162,7 @@ impl SurfaceLanes {
 /// lookup's own texture coordinates, so that a mapping makes a new context without copying the surface.
 #[derive(Clone, Copy, Debug)]
 pub struct LookupContext8<'a> {
-    pub surface: &'a SurfaceLanes,
+    pub surface: &'a SurfaceLanes<'a>,
     pub u: F8,
     pub v: F8,
     pub footprint: Footprint8,
@@ -130,6 +181,9 @@ impl LookupContext8<'_> {
             dpdv: s.dpdv.lane(i),
             uv: Vec2::new(self.u.as_array_ref()[i], self.v.as_array_ref()[i]),
             footprint: self.footprint.lane(i),
+            uv1: s.uv1.map_or(UvSet::default(), |set| set.lane(i)),
+            dndx: s.dndx.lane(i),
+            dndy: s.dndy.lane(i),
             primitive: PrimitiveId { object: s.object, triangle: s.triangles[i] },
             object_to_eye: s.object_to_eye,
         }

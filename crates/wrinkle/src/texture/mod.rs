@@ -17,7 +17,7 @@ pub mod texel;
 pub mod trilinear8;
 pub mod wrap;
 
-pub use context::{LookupContext, LookupContext8, PrimitiveId, SurfaceLanes};
+pub use context::{LookupContext, LookupContext8, PrimitiveId, SurfaceLanes, UvSet, UvSet8};
 pub use filter::{Filter, FilterOptions, Filterable};
 pub use filtered::{FilteredTexture, TextureOptions};
 pub use footprint::{Footprint, Footprint8};

@@ -9,6 +9,8 @@ pub struct Primitive {
     pub normals: Option<Vec<[f32; 3]>>,
     /// glTF's convention: (0, 0) at the top left of the image.
     pub uvs: Option<Vec<[f32; 2]>>,
+    /// TEXCOORD_1, as `uvs`.
+    pub uvs1: Option<Vec<[f32; 2]>>,
     pub tangents: Option<Vec<[f32; 4]>>,
     pub indices: Vec<u32>,
 }
@@ -63,9 +65,12 @@ impl File {
             let k = push(floats(&n.iter().flatten().copied().collect::<Vec<_>>()), n.len(), "VEC3", 5126, Some(34962));
             attributes.push(format!("\"NORMAL\": {k}"));
         }
-        if let Some(t) = &p.uvs {
-            let k = push(floats(&t.iter().flatten().copied().collect::<Vec<_>>()), t.len(), "VEC2", 5126, Some(34962));
-            attributes.push(format!("\"TEXCOORD_0\": {k}"));
+        for (set, uvs) in [&p.uvs, &p.uvs1].into_iter().enumerate() {
+            if let Some(t) = uvs {
+                let flat: Vec<f32> = t.iter().flatten().copied().collect();
+                let k = push(floats(&flat), t.len(), "VEC2", 5126, Some(34962));
+                attributes.push(format!("\"TEXCOORD_{set}\": {k}"));
+            }
         }
         if let Some(t) = &p.tangents {
             let k = push(floats(&t.iter().flatten().copied().collect::<Vec<_>>()), t.len(), "VEC4", 5126, Some(34962));
