@@ -74,11 +74,12 @@ impl Frame8 {
     pub fn unit_normal_change(&self, footprint: &Footprint8) -> [V3; 2] {
         let n = self.pu.cross(self.pv);
         let len = n.length();
-        let unit = n * (F8::ONE / len);
+        let inv_len = F8::ONE / len;
+        let unit = n * inv_len;
         let nu = self.puu.cross(self.pv) + self.pu.cross(self.puv);
         let nv = self.puv.cross(self.pv) + self.pu.cross(self.pvv);
         let turn = |d: V3| {
-            let t = (d - unit * unit.dot(d)) * (F8::ONE / len);
+            let t = (d - unit * unit.dot(d)) * inv_len;
             V3::select(len.cmp_gt(F8::ZERO), t, V3::ZERO)
         };
         [turn(nu * footprint.dudx + nv * footprint.dvdx), turn(nu * footprint.dudy + nv * footprint.dvdy)]

@@ -132,9 +132,10 @@ pub fn sample8(mesh: &TriangleMesh, tris: &[u32; LANES], rays: &Rays8, second_se
         let inv = usable.blend(inv_det, F8::ZERO);
         // (b1, b2) per unit u: (du2.v, -du1.v) / det; per unit v: (-du2.u, du1.u) / det.
         let column = |db1: F8, db2: F8| along((a1, a2), db1 * inv, db2 * inv);
+        let (du, dv) = along((a1, a2), b1, b2);
         UvSet8 {
-            u: corners.0 .0 + a1.0 * b1 + a2.0 * b2,
-            v: corners.0 .1 + a1.1 * b1 + a2.1 * b2,
+            u: corners.0 .0 + du,
+            v: corners.0 .1 + dv,
             footprint: Footprint8 { dudx: dx.0, dvdx: dx.1, dudy: dy.0, dvdy: dy.1 },
             jacobian: [column(du2.1, -du1.1), column(-du2.0, du1.0)],
         }
@@ -263,7 +264,9 @@ mod tests {
         let (sx, sy) = (moved(Vec2::new(step, 0.0)), moved(Vec2::new(0.0, step)));
         let set = s.uv1.expect("set 1 was asked for");
         for i in 0..LANES {
-            for (got, next) in [(s.orientation.normal_change[0].lane(i), &sx), (s.orientation.normal_change[1].lane(i), &sy)] {
+            for (got, next) in
+                [(s.orientation.normal_change[0].lane(i), &sx), (s.orientation.normal_change[1].lane(i), &sy)]
+            {
                 let want = normal(next, i) - normal(&s, i);
                 assert!((got - want).length() < 0.02 * want.length() + 1e-7, "lane {i}: {got} vs {want}");
             }
