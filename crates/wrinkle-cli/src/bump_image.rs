@@ -99,14 +99,15 @@ pub fn scene(args: &BumpArgs, table: BumpTable, texture: Option<FilteredTexture>
         formula: BumpFormula::Blinn,
         filter: FilterOptions { filter: Filter::Reconstruct(Kernel::Bilinear), ..FilterOptions::default() },
     };
-    let material = Material {
+    let mut material = Material {
         color: Vec3::ONE,
-        texture: texture.map(|t| MappedTexture { texture: Arc::new(t), mapping: Mapping::default() }),
         phong: Phong::new(args.specular, args.shininess),
         bump: Some(bump),
-        normal_map: None,
-        specular_map: None,
+        ..Material::default()
     };
+    if let Some(t) = texture {
+        material.set_colour_texture(MappedTexture { texture: Arc::new(t), mapping: Mapping::default() }, false);
+    }
     Ok(Scene {
         camera: CameraDesc {
             eye: centre + Vec3::new(0.0, 0.0, w.max(h)),

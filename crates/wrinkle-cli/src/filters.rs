@@ -116,12 +116,12 @@ fn classic_scene() -> Result<Scene> {
         mapping: Mapping::uv(UvTransform::repeat(repeat)),
     };
     let sphere = Arc::new(FilteredTexture::new(&lettered, TextureOptions::default()));
-    scene.materials[0].texture = Some(mapped(&sphere, Vec2::new(2.0, 5.0)));
+    scene.materials[0].set_colour_texture(mapped(&sphere, Vec2::new(2.0, 5.0)), false);
     let checks = Image::from_fn(64, 64, |x, y| if (x / 4 + y / 4) % 2 == 0 { rgba(red) } else { rgba(cream) });
     let board = Arc::new(FilteredTexture::new(&checks, TextureOptions::default()));
     for (k, (near, far, half)) in ROWS.into_iter().enumerate() {
         let repeat = Vec2::new(2.0 * half / PERIOD, (near - far) / PERIOD);
-        scene.materials[k + 1].texture = Some(mapped(&board, repeat));
+        scene.materials[k + 1].set_colour_texture(mapped(&board, repeat), false);
     }
     Ok(scene)
 }
@@ -171,7 +171,7 @@ pub fn run(args: &FiltersArgs) -> Result<()> {
         Some(_) => load_scene(args.scene.as_deref())?,
         None => classic_scene()?,
     };
-    if !scene.materials.iter().any(|m| m.texture.is_some()) {
+    if !scene.materials.iter().any(|m| m.colour_texture().is_some()) {
         return Err(Error::Invalid("the scene has no colour texture to filter".into()));
     }
 

@@ -111,7 +111,7 @@ pub fn run(args: &MappingsArgs) -> Result<()> {
         bar.set_message(label);
         let mapping = parse_mapping_text(text)?;
         for material in &mut scene.materials {
-            material.texture = Some(MappedTexture { texture: texture.clone(), mapping });
+            material.set_colour_texture(MappedTexture { texture: texture.clone(), mapping }, false);
         }
         panels.push(Panel { label: label.to_string(), pixels: render(&scene, &options)?.color });
         bar.inc(1);

@@ -212,7 +212,7 @@ fn scene_files_choose_the_filter_per_texture() {
     let parse = |material: &str| Scene::parse(&scene(material), Path::new(&dir));
     let fp = Footprint { dudx: 0.3, dvdx: 0.05, dudy: 0.0, dvdy: 0.01 };
     let ctx = LookupContext::at_uv(glam::Vec2::new(0.3, 0.6), fp);
-    let look = |s: &Scene| s.materials[0].texture.as_ref().unwrap().eval(&ctx);
+    let look = |s: &Scene| s.materials[0].colour_texture().unwrap().eval(&ctx);
     let short = parse("{ texture = \"t.png\", filter = \"ewa\" }").unwrap();
     let table = parse("{ texture = { path = \"t.png\", filter = \"ewa\", wrap = \"repeat\", srgb = true } }").unwrap();
     let trilinear = parse("{ texture = \"t.png\" }").unwrap();

@@ -86,13 +86,26 @@ pub enum Texels {
 /// extension). 8-bit images come back as bytes; with `srgb`, 16-bit colour channels are decoded from sRGB to
 /// linear; float images are linear already. Alpha is never decoded; it is opaque where the file has none.
 pub fn load_texels(path: &Path, srgb: bool) -> Result<Texels> {
+    Ok(load_texture_file(path, srgb)?.texels)
+}
+
+/// A texture's texels and whether its file has an alpha channel (OpenGL's RGBA base format, not RGB).
+pub struct TextureFile {
+    pub texels: Texels,
+    pub alpha: bool,
+}
+
+/// [`load_texels`], and whether the file has an alpha channel.
+pub fn load_texture_file(path: &Path, srgb: bool) -> Result<TextureFile> {
     if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr")) {
-        return load_exr_rgba(path).map(Texels::Linear);
+        let (image, alpha) = load_exr_rgba(path)?;
+        return Ok(TextureFile { texels: Texels::Linear(image), alpha });
     }
     if let Some(grey) = load_tiff_grey_f32(path) {
         let grey = grey?;
         let pixels = grey.pixels.iter().map(|&g| [g, g, g, 1.0]).collect();
-        return Ok(Texels::Linear(Image { width: grey.width, height: grey.height, pixels }));
+        let texels = Texels::Linear(Image { width: grey.width, height: grey.height, pixels });
+        return Ok(TextureFile { texels, alpha: false });
     }
     // RGBA bytes (twice: converted, then collected), or RGBA f32 (likewise), or 16-bit then f32.
     let img = decode(path, |c| match c.bytes_per_pixel() / c.channel_count() {
@@ -102,7 +115,8 @@ pub fn load_texels(path: &Path, srgb: bool) -> Result<Texels> {
     })?;
     let (width, height) = (img.width() as usize, img.height() as usize);
     let float = matches!(img.color(), ColorType::Rgb32F | ColorType::Rgba32F);
-    Ok(if float {
+    let alpha = img.color().has_alpha();
+    let texels = if float {
         Texels::Linear(Image { width, height, pixels: img.into_rgba32f().pixels().map(|p| p.0).collect() })
     } else if img.color().bytes_per_pixel() / img.color().channel_count() == 1 {
         Texels::Rgba8(Image { width, height, pixels: img.into_rgba8().pixels().map(|p| p.0).collect() })
@@ -123,7 +137,8 @@ pub fn load_texels(path: &Path, srgb: bool) -> Result<Texels> {
             .map(|p| [table[p[0] as usize], table[p[1] as usize], table[p[2] as usize], p[3] as f32 / 65535.0])
             .collect();
         Texels::Linear(Image { width, height, pixels })
-    })
+    };
+    Ok(TextureFile { texels, alpha })
 }
 
 /// A colour texture in linear light as RGBA f32: [`load_texels`] with 8-bit texels decoded too.
@@ -187,7 +202,7 @@ fn load_exr_grey(path: &Path) -> Result<GreyImage> {
 }
 
 /// R, G, B (and A when present) of an OpenEXR file; a single channel (Y or any name) is grey.
-fn load_exr_rgba(path: &Path) -> Result<Image<[f32; 4]>> {
+fn load_exr_rgba(path: &Path) -> Result<(Image<[f32; 4]>, bool)> {
     let (width, height, channels) = read_exr_channels(path)?;
     let find = |name: &str| channels.iter().find(|(n, _)| n == name).map(|(_, v)| v);
     let (r, g, b) = match (find("R"), find("G"), find("B")) {
@@ -197,7 +212,7 @@ fn load_exr_rgba(path: &Path) -> Result<Image<[f32; 4]>> {
     };
     let a = find("A");
     let pixels = (0..width * height).map(|k| [r[k], g[k], b[k], a.map_or(1.0, |a| a[k])]).collect();
-    Ok(Image { width, height, pixels })
+    Ok((Image { width, height, pixels }, a.is_some()))
 }
 
 /// Writes an 8-bit RGB PNG from `rgb`, 3 bytes per pixel, row 0 at the top.

@@ -50,6 +50,10 @@ pub struct VisBuffer {
     /// renderer itself.
     pub object: Vec<u32>,
     pub bary: Vec<[f32; 2]>,
+    /// The alpha test's depth peeling: per sample, the fragment (depth key, triangle) it refused, and
+    /// whether the sample is open to the fragments behind it. Sized on first use.
+    refused: Vec<(f32, u32)>,
+    reopened: Vec<bool>,
 }
 
 impl VisBuffer {
@@ -65,6 +69,8 @@ impl VisBuffer {
             triangle: vec![EMPTY; n],
             object: vec![EMPTY; n],
             bary: vec![[0.0; 2]; n],
+            refused: Vec::new(),
+            reopened: Vec::new(),
         }
     }
 
@@ -108,6 +114,51 @@ impl VisBuffer {
                 triangle[k] = id;
             }
         });
+    }
+
+    /// Takes the triangles at samples `refused` out of those samples (the alpha test found them
+    /// transparent there) and rasterizes the tile's triangles again into those samples alone, keeping the
+    /// nearest fragment behind the refused one: one layer of depth peeling. Fragments are ordered by depth
+    /// key, then triangle index (the order of `rasterize`), so each pass moves strictly back and peeling
+    /// ends.
+    pub fn peel(
+        &mut self,
+        bins: &Bins,
+        tile: (usize, usize),
+        triangles: &[ScreenTriangle],
+        pattern: &SamplePattern,
+        refused: &[usize],
+    ) {
+        let n = self.depth.len();
+        self.refused.resize(n, (f32::INFINITY, EMPTY));
+        self.reopened.resize(n, false);
+        for &k in refused {
+            self.refused[k] = (self.depth[k], self.triangle[k]);
+            self.reopened[k] = true;
+            self.depth[k] = f32::NEG_INFINITY;
+            self.triangle[k] = EMPTY;
+        }
+        let (x0, y0, width, spp) = (self.x0, self.y0, self.width, self.spp);
+        let (depth, triangle, bound, open) = (&mut self.depth, &mut self.triangle, &self.refused, &self.reopened);
+        for &id in &bins.bins[tile.1 * bins.tiles_x + tile.0] {
+            let tri = &triangles[id as usize];
+            cover(tri, pattern, (x0, y0, width, self.height), |x, y, s, dx, dy| {
+                let k = ((y - y0) * width + x - x0) * spp + s;
+                if !open[k] {
+                    return;
+                }
+                let d = tri.depth.at(dx, dy);
+                let (bd, bid) = bound[k];
+                let behind = d < bd || (d == bd && id > bid);
+                if behind && (d > depth[k] || (d == depth[k] && id < triangle[k])) {
+                    depth[k] = d;
+                    triangle[k] = id;
+                }
+            });
+        }
+        for &k in refused {
+            self.reopened[k] = false;
+        }
     }
 
     /// Interpolates eight samples (lane i: sample `k[i]` on `tris[i]`, at screen position (x, y)) and records

@@ -154,6 +154,7 @@ pub fn render_with_progress(
         bump_enabled: options.bump,
         bump_filter: options.bump_filter,
     };
+    let cutoffs: Vec<Option<f32>> = instances.iter().map(|i| scene.materials[i.material].alpha_cutoff()).collect();
     let mut frame = Frame::new(w, h, options.aovs, cam.background);
     let band_len = tile_size * w;
     let job = TileJob {
@@ -170,6 +171,7 @@ pub fn render_with_progress(
         sample_cell: (1.0 / options.spp as f32).sqrt(),
         volumes: &scene.volumes,
         lights: &scene.lights,
+        cutoffs: &cutoffs,
     };
     let (bands_done, bands) = (AtomicUsize::new(0), bins.tiles_y);
     let band_aovs: Vec<frame::AovBand> = frame
@@ -177,7 +179,12 @@ pub fn render_with_progress(
         .par_chunks_mut(band_len)
         .enumerate()
         .map_init(
-            || TileScratch { vis: VisBuffer::new(tile_size, options.spp), shaded: Vec::new() },
+            || TileScratch {
+                vis: VisBuffer::new(tile_size, options.spp),
+                shaded: Vec::new(),
+                candidates: Vec::new(),
+                refused: Vec::new(),
+            },
             |scratch, (ty, color)| {
                 let mut aov = frame::AovBand::new(options.aovs, color.len());
                 for tx in 0..bins.tiles_x {
@@ -325,6 +332,8 @@ struct TileJob<'a> {
     sample_cell: f32,
     volumes: &'a [Hypertexture],
     lights: &'a [Light],
+    /// Per surface, the alpha cutoff of its material where the alpha test applies.
+    cutoffs: &'a [Option<f32>],
 }
 
 impl TileJob<'_> {
@@ -349,12 +358,15 @@ impl TileJob<'_> {
         w: usize,
         h: usize,
     ) {
-        let TileScratch { vis, shaded } = scratch;
         if self.bins.bins[tile.1 * self.bins.tiles_x + tile.0].is_empty() && self.volumes.is_empty() {
             // Nothing here: the frame already holds the background, and the AOVs keep their NaN.
             return;
         }
-        vis.render_tile(self.bins, tile, (w, h), self.triangles, self.pattern);
+        scratch.vis.render_tile(self.bins, tile, (w, h), self.triangles, self.pattern);
+        if self.cutoffs.iter().any(Option::is_some) {
+            self.mask(scratch, tile);
+        }
+        let TileScratch { vis, shaded, .. } = scratch;
         // Shade every covered sample, eight of one surface at a time, into the tile's sample buffer.
         let spp = vis.spp;
         // Only covered samples are read back, and each of them is written first: no clearing needed.
@@ -411,8 +423,14 @@ impl TileJob<'_> {
         }
     }
 
-    /// Interpolates, refines and shades the packet's samples, and empties it.
-    fn shade_packet(&self, vis: &mut VisBuffer, packet: &mut Packet, shaded: &mut [Shaded]) {
+    /// Interpolates and refines the packet's samples and hands them to `then` with their instance.
+    #[inline(always)]
+    fn with_samples<R>(
+        &self,
+        vis: &mut VisBuffer,
+        packet: &Packet,
+        then: impl FnOnce(&Instance, &SurfaceSamples8<'_>) -> R,
+    ) -> R {
         let inst = &self.instances[packet.surface as usize];
         // Unused lanes repeat the first sample; their results are dropped.
         let used = |i: usize| if i < packet.len { i } else { 0 };
@@ -458,21 +476,81 @@ impl TileJob<'_> {
                 }
             }
         };
-        let result = self.shade.shade8(inst, &samples);
+        then(inst, &samples)
+    }
+
+    /// Interpolates, refines and shades the packet's samples, and empties it.
+    fn shade_packet(&self, vis: &mut VisBuffer, packet: &mut Packet, shaded: &mut [Shaded]) {
+        let (result, object) = self.with_samples(vis, packet, |inst, at| (self.shade.shade8(inst, at), inst.object));
         let uv = result.uv;
         for i in 0..packet.len {
             let uv = Vec2::new(uv.0.as_array_ref()[i], uv.1.as_array_ref()[i]);
-            let triangle = triangles[i];
-            shaded[packet.samples[i]] = Shaded { shaded: result.lane(i), uv, object: inst.object, triangle };
+            let triangle = self.triangles[packet.triangles[i] as usize].triangle;
+            shaded[packet.samples[i]] = Shaded { shaded: result.lane(i), uv, object, triangle };
         }
         packet.len = 0;
     }
+
+    /// The alpha test of the tile's samples `candidates` whose surfaces are masked: those whose alpha is
+    /// below their material's cutoff are pushed onto `refused`.
+    fn alpha_test(&self, vis: &mut VisBuffer, candidates: &[usize], refused: &mut Vec<usize>) {
+        let mut packet = Packet::default();
+        let mut test = |vis: &mut VisBuffer, packet: &mut Packet| {
+            let cutoff = self.cutoffs[packet.surface as usize].expect("only masked surfaces are queued");
+            let alpha = self.with_samples(vis, packet, |inst, at| self.shade.alpha8(inst, at));
+            let alpha = alpha.as_array_ref();
+            refused.extend((0..packet.len).filter(|&i| alpha[i] < cutoff).map(|i| packet.samples[i]));
+            packet.len = 0;
+        };
+        let spp = vis.spp;
+        for &k in candidates {
+            let t = vis.triangle[k];
+            if t == EMPTY {
+                continue;
+            }
+            let surface = self.triangles[t as usize].surface;
+            if self.cutoffs[surface as usize].is_none() {
+                continue;
+            }
+            if packet.len > 0 && packet.surface != surface {
+                test(vis, &mut packet);
+            }
+            let (x, y) = ((k / spp) % vis.width, k / spp / vis.width);
+            packet.push(surface, k, t, vis.sample_position(x, y, k % spp, self.pattern));
+            if packet.len == LANES {
+                test(vis, &mut packet);
+            }
+        }
+        if packet.len > 0 {
+            test(vis, &mut packet);
+        }
+    }
+
+    /// Removes what the alpha test refuses: tests the tile's samples on masked surfaces, peels the refused
+    /// ones back to the next fragment behind, and tests those again until every sample keeps its fragment.
+    fn mask(&self, scratch: &mut TileScratch, tile: (usize, usize)) {
+        let TileScratch { vis, candidates, refused, .. } = scratch;
+        candidates.clear();
+        candidates.extend(0..vis.width * vis.height * vis.spp);
+        loop {
+            refused.clear();
+            self.alpha_test(vis, candidates, refused);
+            if refused.is_empty() {
+                return;
+            }
+            vis.peel(self.bins, tile, self.triangles, self.pattern, refused);
+            std::mem::swap(candidates, refused);
+        }
+    }
 }
 
-/// One worker's buffers, reused from tile to tile: the visibility buffer and the shaded samples.
+/// One worker's buffers, reused from tile to tile: the visibility buffer, the shaded samples, and the
+/// alpha test's lists of samples.
 struct TileScratch {
     vis: VisBuffer,
     shaded: Vec<Shaded>,
+    candidates: Vec<usize>,
+    refused: Vec<usize>,
 }
 
 /// Up to eight covered samples of one surface, waiting to be shaded together.

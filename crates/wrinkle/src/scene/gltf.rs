@@ -5,15 +5,15 @@
 //! convention (v up): glTF's v runs down the image.
 
 use super::contain::contain_panics;
-use super::load::default_material;
 use super::model::ModelPart;
+use super::texture::Source;
 use crate::bump::normal_map::Convention;
 use crate::bump::TangentNormalMap;
 use crate::geometry::TriangleMesh;
 use crate::image::color::srgb_to_linear;
 use crate::image::Image;
 use crate::mapping::{MappedTexture, Mapping, Projection, UvTransform};
-use crate::shade::{Material, Phong};
+use crate::shade::{AlphaMode, Layer, Material, Phong};
 use crate::texture::reconstruct::Kernel;
 use crate::texture::{Filter, FilterOptions, FilteredTexture, Texture, TextureOptions, Wrap};
 use crate::{Error, Result};
@@ -184,7 +184,7 @@ impl Textures<'_> {
         tex_coord: u32,
         transform: Option<TextureTransform>,
         srgb: bool,
-    ) -> std::result::Result<MappedTexture, String> {
+    ) -> std::result::Result<Source, String> {
         let set = transform.as_ref().and_then(|t| t.tex_coord).unwrap_or(tex_coord);
         if set > 1 {
             return Err(format!(
@@ -194,11 +194,15 @@ impl Textures<'_> {
         }
         let sampler = texture.sampler();
         let image = texture.source().index();
+        let data = self.images.get(image).ok_or_else(|| format!("image {image} is missing"))?;
+        let rgba = matches!(
+            data.format,
+            Format::R8G8 | Format::R16G16 | Format::R8G8B8A8 | Format::R16G16B16A16 | Format::R32G32B32A32FLOAT
+        );
         let key = (image, srgb, sampler.index());
         let built = match self.cache.get(&key) {
             Some(t) => t.clone(),
             None => {
-                let data = self.images.get(image).ok_or_else(|| format!("image {image} is missing"))?;
                 let options = TextureOptions {
                     wrap: [wrap(sampler.wrap_s()), wrap(sampler.wrap_t())],
                     filter: FilterOptions { filter: filter(sampler.min_filter()), ..FilterOptions::default() },
@@ -211,7 +215,10 @@ impl Textures<'_> {
         };
         let uv = transform.map_or(UvTransform::IDENTITY, |t| t.uv_transform());
         let projection = if set == 1 { Projection::SecondUv } else { Projection::Uv };
-        Ok(MappedTexture { texture: built, mapping: Mapping { projection, ..Mapping::uv(uv) } })
+        Ok(Source {
+            mapped: MappedTexture { texture: built, mapping: Mapping { projection, ..Mapping::uv(uv) } },
+            rgba,
+        })
     }
 }
 
@@ -351,29 +358,44 @@ fn check_size<T>(px: &[T], w: usize, h: usize) -> std::result::Result<(), String
     Ok(())
 }
 
-/// A glTF material as Blinn-Phong: the base colour (factor times texture), the normal map with its
-/// scale; metallic-roughness has no Blinn-Phong counterpart and is left out.
+/// A glTF material as Blinn-Phong: the base colour (factor times texture, alpha too) with its alpha mode
+/// and cutoff, the normal map with its scale; metallic-roughness has no Blinn-Phong counterpart and is left
+/// out.
 fn material(m: &gltf::Material, textures: &mut Textures) -> std::result::Result<Material, String> {
     let pbr = m.pbr_metallic_roughness();
-    let [r, g, b, _] = pbr.base_color_factor();
-    let texture = match pbr.base_color_texture() {
+    let [r, g, b, a] = pbr.base_color_factor();
+    let layers = match pbr.base_color_texture() {
         Some(info) => {
             let transform = info.texture_transform().map(TextureTransform::of_info);
-            Some(textures.get(info.texture(), info.tex_coord(), transform, true)?)
+            let source = textures.get(info.texture(), info.tex_coord(), transform, true)?;
+            vec![Layer::modulate_kd(source.mapped, source.rgba)]
         }
-        None => None,
+        None => Vec::new(),
     };
     let normal_map = match m.normal_texture() {
         Some(n) => Some(TangentNormalMap {
             texture: {
                 let transform =
                     n.extension_value("KHR_texture_transform").map(TextureTransform::of_json).transpose()?;
-                textures.get(n.texture(), n.tex_coord(), transform, false)?
+                textures.get(n.texture(), n.tex_coord(), transform, false)?.mapped
             },
             strength: n.scale(),
             convention: Convention::OpenGl,
         }),
         None => None,
     };
-    Ok(Material { color: Vec3::new(r, g, b), texture, phong: Phong::new(0.04, 40.0), normal_map, ..default_material() })
+    let alpha_mode = match m.alpha_mode() {
+        gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
+        gltf::material::AlphaMode::Mask => AlphaMode::Mask { cutoff: m.alpha_cutoff().unwrap_or(0.5) },
+        gltf::material::AlphaMode::Blend => AlphaMode::Blend,
+    };
+    Ok(Material {
+        color: Vec3::new(r, g, b),
+        opacity: a,
+        layers,
+        alpha_mode,
+        phong: Phong::new(0.04, 40.0),
+        normal_map,
+        ..Material::default()
+    })
 }

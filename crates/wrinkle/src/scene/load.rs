@@ -2,6 +2,7 @@
 
 use super::contain::contain_panics;
 use super::fields::{clip_backquoted, number_value, points, quoted, vec3_value, Fields};
+use super::layer::{parse_alpha_mode, parse_layers};
 use super::mapping::{parse_mapping, uv_list};
 use super::procedural;
 use super::texture::{parse_normal_map, parse_texture, Role};
@@ -16,7 +17,7 @@ use crate::mapping::polygon::QuadMapping;
 use crate::mapping::{Projection as MapProjection, UvTransform};
 use crate::procedural::solid::Space;
 use crate::raster::Projection;
-use crate::shade::{Material, Phong};
+use crate::shade::{AlphaMode, Layer, Material, Mode, Phong, Target};
 use crate::texture::reconstruct::Kernel;
 use crate::texture::{Filter, FilterOptions};
 use crate::{Error, Result};
@@ -129,7 +130,7 @@ fn parse_camera(v: &Value) -> Result<CameraDesc> {
 }
 
 /// A colour: three non-negative numbers.
-fn colour(f: &Fields, key: &str, default: Vec3) -> Result<Vec3> {
+pub(super) fn colour(f: &Fields, key: &str, default: Vec3) -> Result<Vec3> {
     let c = f.vec3(key)?.unwrap_or(default);
     if c.min_element() < 0.0 {
         return Err(Error::scene(
@@ -259,8 +260,8 @@ fn parse_object(path: &str, v: &Value, base: &Path, materials: &mut Vec<Material
         }
     };
     let mut material = match f.get("material") {
-        Some(m) => parse_material(&f.at("material"), m, base, default_material())?,
-        None => default_material(),
+        Some(m) => parse_material(&f.at("material"), m, base, Material::default())?,
+        None => Material::default(),
     };
     if let (Some(uv), Shape::Surface(Surface::Patch { corners })) = (f.get("uv_corners"), &shape) {
         quad_mapped(&mut material, *corners, &uv_list(&f.at("uv_corners"), uv, 4)?);
@@ -298,6 +299,12 @@ fn parse_mesh(f: &Fields, base: &Path, materials: &mut Vec<Material>) -> Result<
             Some(m) => parse_material(&f.at("material"), m, base, part.material)?,
             None => part.material,
         };
+        if material.alpha_mode == AlphaMode::Blend {
+            return Err(Error::read(
+                &file,
+                format!("a material has alphaMode BLEND: {BLEND_NOT_BUILT} (set {}.alpha_mode)", f.at("material")),
+            ));
+        }
         let mut mesh = part.mesh;
         if material.reads_second_uv() && mesh.uvs(1).is_none() {
             return Err(Error::read(&file, "has no texture coordinate set 1 (TEXCOORD_1), which its material reads"));
@@ -341,52 +348,76 @@ pub(super) fn parse_transform(path: &str, v: &Value) -> Result<Transform> {
     })
 }
 
-/// The material of an object that names none: grey, matte.
-pub(super) fn default_material() -> Material {
-    Material {
-        color: Vec3::splat(0.8),
-        texture: None,
-        phong: Phong::new(0.0, 20.0),
-        bump: None,
-        normal_map: None,
-        specular_map: None,
-    }
-}
-
-const MATERIAL_FIELDS: &[&str] =
-    &["color", "texture", "filter", "specular", "shininess", "bump", "normal_map", "specular_map"];
+const MATERIAL_FIELDS: &[&str] = &[
+    "color",
+    "texture",
+    "filter",
+    "specular",
+    "shininess",
+    "bump",
+    "normal_map",
+    "specular_map",
+    "layer",
+    "opacity",
+    "emission",
+    "alpha_mode",
+    "alpha_cutoff",
+];
 
 /// A material table; the fields it gives replace those of `under` (the default material, or the one a
-/// model file gives its mesh).
+/// model file gives its mesh). `texture` replaces the layers on kd, `specular_map` those on ks, and a
+/// `layer` array all of them (after the scene's own `texture` and `specular_map`).
 fn parse_material(path: &str, v: &Value, base: &Path, under: Material) -> Result<Material> {
     let f = Fields::new(path, v, MATERIAL_FIELDS)?;
-    let texture = match f.get("texture") {
-        Some(t) => Some(parse_texture(&f.at("texture"), t, &f, base, Role::Colour)?),
+    let mut material = Material { layers: Vec::new(), ..under };
+    if f.get("layer").is_none() {
+        material.layers = under.layers;
+    }
+    match f.get("texture") {
+        Some(t) => {
+            let source = parse_texture(&f.at("texture"), t, &f, base, Role::Colour)?;
+            material.set_colour_texture(source.mapped, source.rgba);
+        }
         None if f.get("filter").is_some() => return Err(Error::scene(f.at("filter"), "only with a texture")),
-        None => under.texture,
-    };
-    let (bump, normal_map) = match (f.get("bump"), f.get("normal_map")) {
+        None => {}
+    }
+    if let Some(t) = f.get("specular_map") {
+        let source = parse_texture(&f.at("specular_map"), t, &f, base, Role::Data)?;
+        material.layers.retain(|l| l.target != Target::Ks);
+        material.layers.push(Layer {
+            source: source.mapped,
+            target: Target::Ks,
+            mode: Mode::Modulate,
+            rgba: source.rgba,
+        });
+    }
+    material.layers.extend(parse_layers(&f, base)?);
+    match (f.get("bump"), f.get("normal_map")) {
         (Some(_), Some(_)) => return Err(Error::scene(f.at("normal_map"), "give bump or normal_map, not both")),
-        (Some(b), None) => (Some(parse_bump(&f.at("bump"), b, base)?), None),
-        (None, Some(n)) => (None, Some(parse_normal_map(&f.at("normal_map"), n, &f, base)?)),
-        (None, None) => (under.bump, under.normal_map),
-    };
-    let specular_map = match f.get("specular_map") {
-        Some(t) => Some(parse_texture(&f.at("specular_map"), t, &f, base, Role::Data)?),
-        None => under.specular_map,
-    };
-    Ok(Material {
-        color: colour(&f, "color", under.color)?,
-        texture,
-        phong: Phong::new(
-            f.number_where("specular", Some(under.phong.specular), non_negative, "a non-negative number")?,
-            f.number_where("shininess", Some(under.phong.shininess), positive, "a positive exponent")?,
-        ),
-        bump,
-        normal_map,
-        specular_map,
-    })
+        (Some(b), None) => (material.bump, material.normal_map) = (Some(parse_bump(&f.at("bump"), b, base)?), None),
+        (None, Some(n)) => {
+            (material.bump, material.normal_map) = (None, Some(parse_normal_map(&f.at("normal_map"), n, &f, base)?))
+        }
+        (None, None) => {}
+    }
+    material.color = colour(&f, "color", material.color)?;
+    material.emission = colour(&f, "emission", material.emission)?;
+    material.opacity =
+        f.number_where("opacity", Some(material.opacity), |x| (0.0..=1.0).contains(&x), "a number from 0 to 1")?;
+    material.phong = Phong::new(
+        f.number_where("specular", Some(material.phong.specular), non_negative, "a non-negative number")?,
+        f.number_where("shininess", Some(material.phong.shininess), positive, "a positive exponent")?,
+    );
+    material.alpha_mode = parse_alpha_mode(&f, material.alpha_mode)?;
+    if material.alpha_mode == AlphaMode::Blend && f.get("alpha_mode").is_some() {
+        return Err(Error::scene(f.at("alpha_mode"), BLEND_NOT_BUILT));
+    }
+    Ok(material)
 }
+
+/// Why `alpha_mode = "blend"` is refused, and what to use instead.
+const BLEND_NOT_BUILT: &str =
+    "\"blend\" (sorted transparency) is not built yet: use \"mask\" (the alpha test, with alpha_cutoff) or \"opaque\"";
 
 /// The file a scene's file field (at `field`) names, resolved against the scene file's folder `base`. An
 /// empty name (which would name the folder) and one longer than any path the system takes are errors.

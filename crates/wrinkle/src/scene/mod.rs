@@ -5,6 +5,7 @@ mod contain;
 mod export;
 mod fields;
 mod gltf;
+mod layer;
 mod load;
 mod mapping;
 mod model;

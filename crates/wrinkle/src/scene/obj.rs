@@ -1,9 +1,8 @@
-//! Wavefront OBJ models through `tobj`, with their .mtl materials: Kd, Ks, Ns, map_Kd (colour), map_Ks
-//! (specular), bump / map_Bump with `-bm` (a height map for Blinn's bump mapping), norm (a tangent-space
-//! normal map). Texture options `-bm`, `-o`, `-s` and `-clamp` are read; the other standard options are
+//! Wavefront OBJ models through `tobj`, with their .mtl materials: Kd, Ks, Ns, d, map_Kd (colour), map_Ks
+//! (specular), map_Ns (the exponent), map_d (dissolve: a cutout under the alpha test), bump / map_Bump with
+//! `-bm` (a height map for Blinn's bump mapping), norm (a tangent-space normal map). Texture options `-bm`, `-o`, `-s` and `-clamp` are read; the other standard options are
 //! accepted and ignored.
 
-use super::load::default_material;
 use super::model::ModelPart;
 use super::texture::load_texture;
 use crate::bump::normal_map::Convention;
@@ -11,7 +10,7 @@ use crate::bump::{BumpFormula, BumpMap, BumpSource, BumpTable, TangentNormalMap}
 use crate::geometry::TriangleMesh;
 use crate::image::io;
 use crate::mapping::{MappedTexture, Mapping, UvTransform};
-use crate::shade::{Material, Phong};
+use crate::shade::{AlphaMode, Layer, Material, Mode, Phong, Target};
 use crate::texture::{Filter, FilterOptions, TextureOptions, Wrap};
 use crate::{Error, Result};
 use glam::{Vec2, Vec3};
@@ -89,7 +88,7 @@ pub fn load(path: &Path) -> Result<Vec<ModelPart>> {
                 })?;
                 mtl.material()
             }
-            None => default_material(),
+            None => Material::default(),
         };
         parts.push(ModelPart { mesh, material, two_sided: true });
     }
@@ -111,17 +110,22 @@ struct ObjMaterial {
     color: Vec3,
     specular: f32,
     shininess: f32,
-    texture: Option<MappedTexture>,
-    specular_map: Option<MappedTexture>,
+    opacity: f32,
+    /// map_Kd, map_Ks, map_Ns and map_d as texture layers.
+    layers: Vec<Layer>,
     bump: Option<(Arc<BumpTable>, f32, UvTransform)>,
     normal_map: Option<MappedTexture>,
 }
 
 impl ObjMaterial {
     fn material(&self) -> Material {
+        let cutout = self.layers.iter().any(|l| l.target == Target::Opacity);
         Material {
             color: self.color,
-            texture: self.texture.clone(),
+            opacity: self.opacity,
+            layers: self.layers.clone(),
+            // A dissolve map cuts leaves and fences out (the alpha test); sorted transparency is not built.
+            alpha_mode: if cutout { AlphaMode::Mask { cutoff: 0.5 } } else { AlphaMode::Opaque },
             phong: Phong::new(self.specular, self.shininess),
             bump: self.bump.as_ref().map(|(table, scale, transform)| BumpMap {
                 source: BumpSource::Table(table.clone()),
@@ -135,7 +139,7 @@ impl ObjMaterial {
                 strength: 1.0,
                 convention: Convention::OpenGl,
             }),
-            specular_map: self.specular_map.clone(),
+            ..Material::default()
         }
     }
 }
@@ -143,14 +147,26 @@ impl ObjMaterial {
 fn material(m: &tobj::Material, dir: &Path) -> Result<ObjMaterial> {
     let mean = |c: [f32; 3]| (c[0] + c[1] + c[2]) / 3.0;
     let parse = |spec: &str| MapSpec::parse(spec, dir).map_err(|e| Error::read(dir.join(spec), e));
-    let map = |spec: &Option<String>, srgb: bool| -> Result<Option<MappedTexture>> {
+    let map = |spec: &Option<String>, srgb: bool| -> Result<Option<(MappedTexture, bool)>> {
         let Some(spec) = spec else { return Ok(None) };
         let map = parse(spec)?;
         let wrap = if map.clamp { Wrap::Clamp } else { Wrap::Repeat };
         let options = TextureOptions { wrap: [wrap; 2], ..TextureOptions::default() };
-        let texture = Arc::new(load_texture(&map.file, srgb, options)?);
-        Ok(Some(MappedTexture { texture, mapping: Mapping::uv(map.transform) }))
+        let (texture, alpha) = load_texture(&map.file, srgb, options)?;
+        Ok(Some((MappedTexture { texture: Arc::new(texture), mapping: Mapping::uv(map.transform) }, alpha)))
     };
+    // Each map multiplies its value (map_Ns the exponent, map_d the dissolve), as the MTL format says.
+    let mut layers = Vec::new();
+    for (spec, target, srgb) in [
+        (&m.diffuse_texture, Target::Kd, true),
+        (&m.specular_texture, Target::Ks, false),
+        (&m.shininess_texture, Target::Shininess, false),
+        (&m.dissolve_texture, Target::Opacity, false),
+    ] {
+        if let Some((source, rgba)) = map(spec, srgb)? {
+            layers.push(Layer { source, target, mode: Mode::Modulate, rgba });
+        }
+    }
     let bump = match &m.normal_texture {
         // tobj reads both bump and map_Bump into `normal_texture`: a height map.
         Some(spec) => {
@@ -165,10 +181,10 @@ fn material(m: &tobj::Material, dir: &Path) -> Result<ObjMaterial> {
         specular: m.specular.map_or(0.0, mean),
         // Ns runs 0..1000; Blinn-Phong needs a positive exponent.
         shininess: m.shininess.map_or(20.0, |n| n.max(1.0)),
-        texture: map(&m.diffuse_texture, true)?,
-        specular_map: map(&m.specular_texture, false)?,
+        opacity: m.dissolve.map_or(1.0, |d| if d.is_finite() { d.clamp(0.0, 1.0) } else { 1.0 }),
+        layers,
         bump,
-        normal_map: map(&m.unknown_param.get("norm").cloned(), false)?,
+        normal_map: map(&m.unknown_param.get("norm").cloned(), false)?.map(|(texture, _)| texture),
     })
 }
 

@@ -66,12 +66,21 @@ pub fn parse_texture(path: &str, v: &Value) -> Result<Procedural> {
 
 /// `procedural = { pattern = "fbm", ... }` inside a bump table.
 pub fn parse_bump(path: &str, v: &Value) -> Result<Procedural> {
-    let known: Vec<&str> = std::iter::once("pattern").chain(PATTERN_FIELDS.iter().copied()).collect();
-    let f = Fields::new(path, v, &known)?;
+    let f = pattern_table(path, v)?;
     if f.get("colors").is_some() {
         return Err(Error::scene(f.at("colors"), "applies to textures only (a bump reads the pattern's value)"));
     }
     parse_pattern(&f, "pattern")
+}
+
+/// `procedural = { pattern = "marble", ... }` as a texture layer's source.
+pub fn parse_layer(path: &str, v: &Value) -> Result<Procedural> {
+    parse_pattern(&pattern_table(path, v)?, "pattern")
+}
+
+fn pattern_table<'a>(path: &str, v: &'a Value) -> Result<Fields<'a>> {
+    let known: Vec<&str> = std::iter::once("pattern").chain(PATTERN_FIELDS.iter().copied()).collect();
+    Fields::new(path, v, &known)
 }
 
 fn parse_pattern(f: &Fields, name_key: &str) -> Result<Procedural> {

@@ -42,16 +42,23 @@ pub enum Role {
     Data,
 }
 
-/// The texture at `path` (the material's `texture` field, or a data map's); `material` is the material
-/// table, whose `filter` applies to the colour texture's short form.
-pub fn parse_texture(path: &str, v: &Value, material: &Fields, base: &Path, role: Role) -> Result<MappedTexture> {
+/// A texture as a layer reads it: through its mapping, and whether it has an alpha channel.
+pub struct Source {
+    pub mapped: MappedTexture,
+    /// OpenGL's RGBA base format (the file has alpha) rather than RGB; procedural patterns are RGB.
+    pub rgba: bool,
+}
+
+/// The texture at `path` (the material's `texture` field, a layer's, or a data map's); `material` is the
+/// table beside it (the material or the layer), whose `filter` applies to the short form.
+pub fn parse_texture(path: &str, v: &Value, material: &Fields, base: &Path, role: Role) -> Result<Source> {
     parse_texture_with(path, v, material, base, role, &[])
 }
 
 /// A tangent-space normal map: a data texture with `strength` (default 1, glTF's scale) and `convention`
 /// (`"opengl"`, the default: green up the picture, or `"directx"`).
 pub fn parse_normal_map(path: &str, v: &Value, material: &Fields, base: &Path) -> Result<TangentNormalMap> {
-    let texture = parse_texture_with(path, v, material, base, Role::Data, NORMAL_MAP_FIELDS)?;
+    let texture = parse_texture_with(path, v, material, base, Role::Data, NORMAL_MAP_FIELDS)?.mapped;
     let (strength, convention) = match v {
         Value::Table(_) => {
             let f = Fields::new(path, v, &[TEXTURE_FIELDS, NORMAL_MAP_FIELDS].concat())?;
@@ -74,14 +81,14 @@ fn parse_texture_with(
     base: &Path,
     role: Role,
     extra: &[&str],
-) -> Result<MappedTexture> {
+) -> Result<Source> {
     if super::procedural::is_procedural(v) {
         if role == Role::Colour && material.get("filter").is_some() {
             // Patterns are band-limited to the footprint by their own sums, not filtered.
             return Err(Error::scene(material.at("filter"), "applies to image textures only, not to a procedural one"));
         }
         let texture = Arc::new(super::procedural::parse_texture(path, v)?);
-        return Ok(MappedTexture { texture, mapping: Mapping::default() });
+        return Ok(Source { mapped: MappedTexture { texture, mapping: Mapping::default() }, rgba: false });
     }
     let beside = match role {
         Role::Colour => material.choice("filter", None, &filter_choices())?,
@@ -129,13 +136,13 @@ fn parse_texture_with(
             (file, f.at("path"), options, f.boolean("srgb", srgb_default)?, mapping)
         }
     };
-    let texture = Arc::new(load_texture(&resolve(base, &file_field, file)?, srgb, options)?);
-    Ok(MappedTexture { texture, mapping })
+    let (texture, rgba) = load_texture(&resolve(base, &file_field, file)?, srgb, options)?;
+    Ok(Source { mapped: MappedTexture { texture: Arc::new(texture), mapping }, rgba })
 }
 
-/// An image file as a filtered texture.
-pub fn load_texture(file: &Path, srgb: bool, options: TextureOptions) -> Result<FilteredTexture> {
-    let texels = io::load_texels(file, srgb)?;
+/// An image file as a filtered texture, and whether the file has an alpha channel.
+pub fn load_texture(file: &Path, srgb: bool, options: TextureOptions) -> Result<(FilteredTexture, bool)> {
+    let io::TextureFile { texels, alpha } = io::load_texture_file(file, srgb)?;
     let (width, height, bytes8) = match &texels {
         io::Texels::Rgba8(image) => (image.width, image.height, true),
         io::Texels::Linear(image) => (image.width, image.height, false),
@@ -150,10 +157,11 @@ pub fn load_texture(file: &Path, srgb: bool, options: TextureOptions) -> Result<
     limits::reserve((width * height) as u64 * per_texel, || {
         format!("{}: a {width}x{height} texture with its {} filter", file.display(), options.filter.filter.name())
     })?;
-    Ok(match texels {
+    let texture = match texels {
         io::Texels::Rgba8(image) => FilteredTexture::from_rgba8(&image, srgb, options),
         io::Texels::Linear(image) => FilteredTexture::new(&image, options),
-    })
+    };
+    Ok((texture, alpha))
 }
 
 fn filter_choices() -> Vec<(&'static str, Option<Filter>)> {
@@ -192,13 +200,11 @@ fn border(f: &Fields, wrap: [Wrap; 2]) -> Result<Vec4> {
 }
 
 impl crate::Scene {
-    /// Every colour texture that has a choice of filters takes `filter` (`--filter` overriding the scene).
+    /// Every layer's texture that has a choice of filters takes `filter` (`--filter` overriding the scene).
     pub fn set_texture_filter(&mut self, filter: Filter) {
-        for m in &mut self.materials {
-            if let Some(t) = m.texture.as_mut() {
-                if let Some(filtered) = t.texture.with_filter(filter) {
-                    t.texture = filtered;
-                }
+        for layer in self.materials.iter_mut().flat_map(|m| &mut m.layers) {
+            if let Some(filtered) = layer.source.texture.with_filter(filter) {
+                layer.source.texture = filtered;
             }
         }
     }

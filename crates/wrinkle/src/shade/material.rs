@@ -1,39 +1,104 @@
-//! Materials: a base colour, an optional colour texture, Blinn-Phong specular, an optional bump map or
-//! tangent-space normal map.
+//! Materials: a diffuse colour, opacity and emission, Blinn-Phong specular, texture layers over them, an
+//! optional bump map or tangent-space normal map, and how alpha is used.
 
+use super::layer::{Layer, Mode, Target};
 use super::phong::Phong;
 use crate::bump::{BumpMap, TangentNormalMap};
 use crate::mapping::{MappedTexture, Mapping, Projection};
 use glam::Vec3;
 
+/// How a material's alpha is used (glTF's `alphaMode`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AlphaMode {
+    /// Alpha is ignored: the surface covers what it covers.
+    Opaque,
+    /// The alpha test: samples whose alpha is below the cutoff are not part of the surface.
+    Mask { cutoff: f32 },
+    /// Sorted transparency; refused when a scene is loaded, until the transparent pass exists.
+    Blend,
+}
+
 pub struct Material {
-    /// Multiplies the texture (or stands alone), linear RGB.
+    /// The diffuse colour Kd before the layers, linear RGB.
     pub color: Vec3,
-    pub texture: Option<MappedTexture>,
+    /// The fragment's alpha before the layers.
+    pub opacity: f32,
+    /// Emitted radiance before the layers, linear RGB.
+    pub emission: Vec3,
     pub phong: Phong,
+    /// Texture layers, applied in order.
+    pub layers: Vec<Layer>,
+    pub alpha_mode: AlphaMode,
     pub bump: Option<BumpMap>,
     /// A tangent-space normal map (instead of a bump map).
     pub normal_map: Option<TangentNormalMap>,
-    /// Multiplies `phong.specular` by the map's mean of R, G, B (clamped to [0, 1]): a Ks map.
-    pub specular_map: Option<MappedTexture>,
+}
+
+impl Default for Material {
+    /// Grey and matte.
+    fn default() -> Material {
+        Material {
+            color: Vec3::splat(0.8),
+            opacity: 1.0,
+            emission: Vec3::ZERO,
+            phong: Phong::new(0.0, 20.0),
+            layers: Vec::new(),
+            alpha_mode: AlphaMode::Opaque,
+            bump: None,
+            normal_map: None,
+        }
+    }
 }
 
 impl Material {
-    /// The mappings of every texture the material reads (colour, specular, normal map, bump).
+    /// The first layer on the diffuse colour: the object's colour texture (the uv AOV shows its
+    /// coordinates).
+    pub fn colour_texture(&self) -> Option<&MappedTexture> {
+        self.layers.iter().find(|l| l.target == Target::Kd).map(|l| &l.source)
+    }
+
+    /// Makes `texture` the one colour texture, modulating the diffuse colour (today's `texture` field):
+    /// it replaces every layer on Kd.
+    pub fn set_colour_texture(&mut self, texture: MappedTexture, rgba: bool) {
+        self.layers.retain(|l| l.target != Target::Kd);
+        self.layers.insert(0, Layer::modulate_kd(texture, rgba));
+    }
+
+    /// Whether the highlight's cutoff, worked out for the material's own specular and exponent, holds for
+    /// every sample: layers on ks that only modulate lower the specular, any other layer on ks or on the
+    /// exponent can raise what a sample's highlight adds.
+    pub fn highlight_cutoff_holds(&self) -> bool {
+        self.layers.iter().all(|l| match l.target {
+            Target::Ks => l.mode == Mode::Modulate,
+            Target::Shininess => false,
+            _ => true,
+        })
+    }
+
+    /// Whether the material emits (a colour or a layer on emission).
+    pub fn emits(&self) -> bool {
+        self.emission != Vec3::ZERO || self.layers.iter().any(|l| l.target == Target::Emission)
+    }
+
+    /// Whether alpha removes samples in the visibility pass, and below which value.
+    pub fn alpha_cutoff(&self) -> Option<f32> {
+        match self.alpha_mode {
+            AlphaMode::Mask { cutoff } => Some(cutoff),
+            _ => None,
+        }
+    }
+
+    /// The mappings of every texture the material reads (layers, normal map, bump).
     pub fn mappings_mut(&mut self) -> impl Iterator<Item = &mut Mapping> {
-        let textures =
-            [self.texture.as_mut(), self.specular_map.as_mut(), self.normal_map.as_mut().map(|m| &mut m.texture)];
-        textures.into_iter().flatten().map(|t| &mut t.mapping).chain(self.bump.as_mut().map(|b| &mut b.mapping))
+        let layers = self.layers.iter_mut().map(|l| &mut l.source.mapping);
+        let normal_map = self.normal_map.as_mut().map(|m| &mut m.texture.mapping);
+        layers.chain(normal_map).chain(self.bump.as_mut().map(|b| &mut b.mapping))
     }
 
     fn projections(&self) -> impl Iterator<Item = &Projection> {
-        let textures =
-            [self.texture.as_ref(), self.specular_map.as_ref(), self.normal_map.as_ref().map(|m| &m.texture)];
-        textures
-            .into_iter()
-            .flatten()
-            .map(|t| &t.mapping.projection)
-            .chain(self.bump.as_ref().map(|b| &b.mapping.projection))
+        let layers = self.layers.iter().map(|l| &l.source.mapping.projection);
+        let normal_map = self.normal_map.as_ref().map(|m| &m.texture.mapping.projection);
+        layers.chain(normal_map).chain(self.bump.as_ref().map(|b| &b.mapping.projection))
     }
 
     /// Whether a mapping follows the normal, so the shader must work out its change across the pixel.

@@ -2,10 +2,12 @@
 //! bump map's perturbation, the colour and specular textures through their mappings, and Blinn-Phong
 //! lighting from several lights.
 
+pub mod layer;
 pub mod material;
 pub mod phong;
 
-pub use material::Material;
+pub use layer::{Layer, Mode, Target};
+pub use material::{AlphaMode, Material};
 pub use phong::Phong;
 
 use crate::bump::blinn::{perturbed_normal8, perturbed_normal_sided8};
@@ -89,11 +91,10 @@ pub struct SurfaceSamples8<'a> {
 }
 
 impl ShadeContext<'_> {
-    /// Shades eight samples of one primitive. Lookups go through their lane forms; everything else runs
-    /// on all lanes at once.
-    #[inline]
-    pub fn shade8(&self, inst: &Instance, at: &SurfaceSamples8<'_>) -> ShadedPacket {
-        let material = &self.materials[inst.material];
+    /// The surface as the lookup contexts of `material` see it: the frame's lanes, with a mesh's side,
+    /// its ray differentials and, where the mappings read it, the normal's change across the pixel.
+    #[inline(always)]
+    fn surface<'s>(&self, inst: &Instance, at: &'s SurfaceSamples8<'s>) -> SurfaceLanes<'s> {
         let frame = at.frame;
         let mut surface = SurfaceLanes::new(frame.p, frame.pu, frame.pv, &at.footprint, inst.object, at.triangles);
         surface.object_to_eye = inst.object_to_camera;
@@ -110,6 +111,33 @@ impl ShadeContext<'_> {
             None if normal_change => [surface.dndx, surface.dndy] = frame.unit_normal_change(&at.footprint),
             None => {}
         }
+        surface
+    }
+
+    /// The alpha of eight samples of one primitive: the material's opacity through the layers that write
+    /// alpha (what the alpha test compares with the cutoff).
+    pub fn alpha8(&self, inst: &Instance, at: &SurfaceSamples8<'_>) -> F8 {
+        let material = &self.materials[inst.material];
+        let surface = self.surface(inst, at);
+        let ctx = LookupContext8 { surface: &surface, u: at.uv.0, v: at.uv.1, footprint: at.footprint };
+        let mut alpha = F8::splat(material.opacity);
+        for layer in material.layers.iter().filter(|l| l.writes_alpha()) {
+            let texel = layer.source.eval8(&ctx);
+            alpha = match layer.target {
+                Target::Kd => layer.mode.alpha8(alpha, texel[3], layer.rgba),
+                _ => layer.mode.scalar8(alpha, layer.scalar_texel(texel)),
+            };
+        }
+        alpha
+    }
+
+    /// Shades eight samples of one primitive. Lookups go through their lane forms; everything else runs
+    /// on all lanes at once.
+    #[inline]
+    pub fn shade8(&self, inst: &Instance, at: &SurfaceSamples8<'_>) -> ShadedPacket {
+        let material = &self.materials[inst.material];
+        let frame = at.frame;
+        let surface = self.surface(inst, at);
         let n_geo = surface.n;
         let ctx = LookupContext8 { surface: &surface, u: at.uv.0, v: at.uv.1, footprint: at.footprint };
         let n_obj = match (&material.bump, &material.normal_map, self.bump_enabled) {
@@ -147,30 +175,48 @@ impl ShadeContext<'_> {
             let back = V3::mul_mat3(&inst.normal_matrix, n_geo).dot(v).cmp_lt(F8::ZERO);
             n = V3::select(back, -n, n);
         }
-        let (albedo, uv) = match &material.texture {
-            Some(t) => {
-                let ([r, g, b, _], uv) = t.eval8_with_coords(&ctx);
-                (V3::splat(material.color) * V3 { x: r, y: g, z: b }, uv)
-            }
-            None => (V3::splat(material.color), at.uv),
-        };
-        let phong = &material.phong;
-        let mut color = V3::ZERO;
-        match &material.specular_map {
-            // Each lane has its own specular; the cutoff of the full specular stays valid for a smaller one.
-            Some(m) => {
-                let [r, g, b, _] = m.eval8(&ctx);
-                let k = ((r + g + b) * F8::splat(1.0 / 3.0)).max(F8::ZERO).min(F8::ONE);
-                for light in self.lights {
-                    color = color + phong.shade8(light, position, n, v, albedo, k);
+        let mut kd = (V3::splat(material.color), F8::splat(material.opacity));
+        let mut uv = None;
+        let (mut ks, mut shininess, mut emission) = (F8::splat(material.phong.specular), None, None);
+        for layer in &material.layers {
+            let texel = match (layer.target, uv) {
+                (Target::Kd, None) => {
+                    let (texel, coords) = layer.source.eval8_with_coords(&ctx);
+                    uv = Some(coords);
+                    texel
                 }
-            }
-            None => {
-                for light in self.lights {
-                    color = color + phong.shade8(light, position, n, v, albedo, F8::ONE);
+                _ => layer.source.eval8(&ctx),
+            };
+            let [r, g, b, a] = texel;
+            match layer.target {
+                Target::Kd => kd = layer.mode.colour8(kd, (V3 { x: r, y: g, z: b }, a), layer.rgba),
+                Target::Emission => {
+                    let ef = (emission.unwrap_or(V3::splat(material.emission)), F8::ONE);
+                    emission = Some(layer.mode.colour8(ef, (V3 { x: r, y: g, z: b }, a), layer.rgba).0);
                 }
+                Target::Ks => ks = layer.mode.scalar8(ks, layer.scalar_texel(texel)),
+                Target::Shininess => {
+                    shininess = Some(layer.mode.scalar8(shininess.unwrap_or(F8::ONE), layer.scalar_texel(texel)))
+                }
+                // Alpha matters only to the alpha test, which has already kept this sample.
+                Target::Opacity => {}
             }
         }
+        let albedo = kd.0;
+        // The exponent of a shininess layer is a fraction of the material's, at least 1.
+        let exponent = shininess.map(|s| (F8::splat(material.phong.shininess) * s).max(F8::ONE));
+        let phong = match material.highlight_cutoff_holds() {
+            true => material.phong,
+            false => Phong { cutoff: 0.0, ..material.phong },
+        };
+        let mut color = V3::ZERO;
+        for light in self.lights {
+            color = color + phong.shade8(light, position, n, v, albedo, ks, exponent);
+        }
+        if material.emits() {
+            color = color + emission.unwrap_or(V3::splat(material.emission));
+        }
+        let uv = uv.unwrap_or(at.uv);
         ShadedPacket { color, normal: n, depth, uv }
     }
 }

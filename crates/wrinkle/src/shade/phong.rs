@@ -18,10 +18,12 @@ impl Phong {
         Phong { specular, shininess, cutoff }
     }
 
-    /// Blinn-Phong on eight samples: albedo (N.L) + k specular (N.H)^shininess, times `light`'s radiance
-    /// at `p`; `k` in [0, 1] scales each lane's specular (a specular map).
+    /// Blinn-Phong on eight samples: albedo (N.L) + ks (N.H)^exponent, times `light`'s radiance at `p`;
+    /// `ks` is each lane's specular (the material's, or what its layers made of it), `exponent` each lane's
+    /// where layers vary it (else the material's `shininess`).
     #[inline]
-    pub fn shade8(&self, light: &Light, p: V3, n: V3, v: V3, albedo: V3, k: F8) -> V3 {
+    #[allow(clippy::too_many_arguments)]
+    pub fn shade8(&self, light: &Light, p: V3, n: V3, v: V3, albedo: V3, ks: F8, exponent: Option<F8>) -> V3 {
         let (l, radiance) = match *light {
             Light::Directional { direction, radiance } => (V3::splat(-direction), V3::splat(radiance)),
             Light::Point { position, radiance } => {
@@ -40,7 +42,7 @@ impl Phong {
         let ndoth = n.dot(h);
         let glints = ndoth.cmp_gt(F8::splat(self.cutoff));
         let spec = if glints.any() {
-            glints.blend(F8::splat(self.specular) * k * ndoth.pow_f32x8(F8::splat(self.shininess)), F8::ZERO)
+            glints.blend(ks * ndoth.pow_f32x8(exponent.unwrap_or(F8::splat(self.shininess))), F8::ZERO)
         } else {
             F8::ZERO
         };
@@ -58,7 +60,7 @@ mod tests {
     /// One sample shaded in every lane; lane 2 read back.
     fn shade(light: &Light, p: Vec3, n: Vec3, v: Vec3, albedo: Vec3, phong: &Phong) -> Vec3 {
         let s = V3::splat;
-        phong.shade8(light, s(p), s(n), s(v), s(albedo), F8::ONE).lane(2)
+        phong.shade8(light, s(p), s(n), s(v), s(albedo), F8::splat(phong.specular), None).lane(2)
     }
 
     #[test]
@@ -101,8 +103,15 @@ mod tests {
             Light::Ambient { radiance: Vec3::splat(0.1) },
         ] {
             let albedo = Vec3::new(0.9, 0.6, 0.3);
-            let all =
-                phong.shade8(&light, V3::ZERO, V3::from_lanes(&normals), V3::splat(eye), V3::splat(albedo), F8::ONE);
+            let all = phong.shade8(
+                &light,
+                V3::ZERO,
+                V3::from_lanes(&normals),
+                V3::splat(eye),
+                V3::splat(albedo),
+                F8::splat(0.4),
+                None,
+            );
             for (i, n) in normals.iter().enumerate() {
                 let alone = shade(&light, Vec3::ZERO, *n, eye, albedo, &phong);
                 assert!((all.lane(i) - alone).length() < 1e-6, "{light:?} lane {i}");
