@@ -447,3 +447,79 @@ fn gltf_second_texture_coordinate_set_lays_textures_normal_maps_and_bumps() {
     let err = Scene::parse(&bad_set, &dir).err().expect("set 2 in a scene").to_string();
     assert!(err.contains("set") && err.contains("0 to 1"), "{err}");
 }
+
+/// Alpha from model files: a glTF base colour texture's alpha under alphaMode MASK with its alphaCutoff,
+/// and an OBJ's map_d (a grey mask), cut the quad where the specifications say; OPAQUE ignores alpha; BLEND
+/// is refused with its fix, and the scene's `alpha_mode` overrides the file's.
+#[test]
+fn model_files_cut_by_their_alpha() {
+    let dir = scratch_dir("model-alpha");
+    let background = [0.1f32, 0.2, 0.3];
+    let scene = |file: &str, material: &str| {
+        format!(
+            "[camera]\neye = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\nprojection = \"orthographic\"\nheight = 2.0\n\
+             background = [0.1, 0.2, 0.3]\n\n[[light]]\ntype = \"ambient\"\n\n\
+             [[object]]\nshape = \"mesh\"\nfile = \"{file}\"\n{material}"
+        )
+    };
+    // Which of the 32 columns show the background, on the middle row (away from the texture's wrap and its
+    // blended middle: columns 2-12 and 20-30 only).
+    let cut = |text: &str| -> [bool; 2] {
+        let frame = render_all_aovs(text, &dir, 32, 32, 1);
+        let row = |x: usize| frame.color[16 * 32 + x] == background;
+        let left = (2..=12).map(row).collect::<Vec<_>>();
+        let right = (20..=30).map(row).collect::<Vec<_>>();
+        assert!(left.iter().all(|&b| b == left[0]) && right.iter().all(|&b| b == right[0]), "{left:?} {right:?}");
+        [left[0], right[0]]
+    };
+    // 8x1 RGBA: the left half transparent, the right opaque.
+    let png_path = dir.join("halves.png");
+    let pixels: Vec<u8> = (0..8).flat_map(|x| [200, 180, 40, if x < 4 { 0 } else { 255 }]).collect();
+    wrinkle::image::io::write_png_rgba8(&png_path, 8, 1, &pixels).unwrap();
+    let png = std::fs::read(&png_path).unwrap();
+    for (name, mode, want) in [
+        ("mask.glb", ", \"alphaMode\": \"MASK\", \"alphaCutoff\": 0.6", [true, false]),
+        ("opaque.glb", "", [false, false]),
+    ] {
+        let material = format!("{{\"pbrMetallicRoughness\": {{\"baseColorTexture\": {{\"index\": 0}}}}{mode}}}");
+        let file = File { primitive: quad(None, false), matrix: None, material, png: Some(png.clone()) };
+        std::fs::write(dir.join(name), file.write(Layout::Binary, "").0).unwrap();
+        assert_eq!(cut(&scene(name, "")), want, "{name}");
+    }
+    // The base colour factor's alpha multiplies the texture's: 0.5 x 1 is below a cutoff of 0.6 everywhere.
+    let material = "{\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 0}, \"baseColorFactor\": \
+                    [1, 1, 1, 0.5]}, \"alphaMode\": \"MASK\", \"alphaCutoff\": 0.6}";
+    let file = File { primitive: quad(None, false), matrix: None, material: material.into(), png: Some(png.clone()) };
+    std::fs::write(dir.join("faded.glb"), file.write(Layout::Binary, "").0).unwrap();
+    assert_eq!(cut(&scene("faded.glb", "")), [true, true]);
+    // BLEND: refused, naming the file and the fix; the scene's alpha_mode overrides it.
+    let material = "{\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 0}}, \"alphaMode\": \"BLEND\"}";
+    let file = File { primitive: quad(None, false), matrix: None, material: material.into(), png: Some(png) };
+    std::fs::write(dir.join("blend.glb"), file.write(Layout::Binary, "").0).unwrap();
+    let err = Scene::parse(&scene("blend.glb", ""), &dir).err().expect("BLEND refused").to_string();
+    assert!(
+        err.contains("blend.glb") && err.contains("alphaMode BLEND") && err.contains("objects[0].material.alpha_mode"),
+        "{err}"
+    );
+    assert_eq!(cut(&scene("blend.glb", "[object.material]\nalpha_mode = \"mask\"\n")), [true, false]);
+
+    // OBJ: map_d is a grey mask (black left, white right) under the alpha test.
+    wrinkle::image::io::write_png_rgb8(
+        &dir.join("d.png"),
+        8,
+        1,
+        &(0..8).flat_map(|x| [if x < 4 { 0 } else { 255 }; 3]).collect::<Vec<u8>>(),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("q.obj"),
+        "mtllib q.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
+         usemtl m\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n",
+    )
+    .unwrap();
+    std::fs::write(dir.join("q.mtl"), "newmtl m\nKd 0.5 1 1\nmap_d d.png\n").unwrap();
+    assert_eq!(cut(&scene("q.obj", "")), [true, false]);
+    // d = 0.4 scales the mask below the cutoff everywhere.
+    std::fs::write(dir.join("q.mtl"), "newmtl m\nKd 0.5 1 1\nd 0.4\nmap_d d.png\n").unwrap();
+    assert_eq!(cut(&scene("q.obj", "")), [true, true]);
+}

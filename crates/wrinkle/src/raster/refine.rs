@@ -16,7 +16,7 @@ use glam::{Affine3A, Vec2};
 /// returns them with the surface frames there. Steps longer than `max_step` (about one tessellation segment)
 /// are not taken: they happen only where the ray grazes the surface or misses it, and there the interpolated
 /// (u,v) is kept.
-#[inline]
+#[inline(always)]
 pub fn refine_uv8(
     camera: &Camera,
     surface: &Surface,

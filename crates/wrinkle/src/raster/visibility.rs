@@ -163,7 +163,7 @@ impl VisBuffer {
 
     /// Interpolates eight samples (lane i: sample `k[i]` on `tris[i]`, at screen position (x, y)) and records
     /// their barycentrics and object.
-    #[inline]
+    #[inline(always)]
     pub fn resolve8(
         &mut self,
         k: &[usize; LANES],
