@@ -322,3 +322,95 @@ fn bad_layers_name_their_field() {
         assert!(!err.contains('\n'));
     }
 }
+
+/// A PNG palette image of `bits` bits per index.
+fn palette_png(path: &Path, width: u32, height: u32, indices: &[u8], bits: png::BitDepth, palette: &[[u8; 3]]) {
+    let mut encoder = png::Encoder::new(std::fs::File::create(path).unwrap(), width, height);
+    encoder.set_color(png::ColorType::Indexed);
+    encoder.set_depth(bits);
+    encoder.set_palette(palette.iter().flatten().copied().collect::<Vec<u8>>());
+    let per_byte = 8 / bits as usize;
+    let row_bytes = (width as usize).div_ceil(per_byte);
+    let mut packed = vec![0u8; row_bytes * height as usize];
+    for y in 0..height as usize {
+        for x in 0..width as usize {
+            let shift = 8 - bits as usize * (x % per_byte + 1);
+            packed[y * row_bytes + x / per_byte] |= indices[y * width as usize + x] << shift;
+        }
+    }
+    encoder.write_header().unwrap().write_image_data(&packed).unwrap();
+}
+
+/// Colour index textures: each pixel is the palette entry of its nearest index, for 2- and 8-bit palette
+/// PNGs and grey indices with a palette file; swapping the palette changes the colours and nothing else; a
+/// LUT maps the filtered intensity.
+#[test]
+fn colour_index_textures_look_up_the_palette() {
+    let dir = scratch_dir("colour-index");
+    // 4x2 indices, row 0 at the top; an orthographic 16x8 view: each texel covers 4x4 pixels.
+    let indices = [0u8, 1, 2, 3, 3, 2, 1, 0];
+    let palette = [[255u8, 0, 0], [0, 255, 0], [0, 0, 255], [255, 255, 255]];
+    let swapped = [[10u8, 20, 30], [40, 50, 60], [70, 80, 90], [100, 110, 120]];
+    palette_png(&dir.join("i2.png"), 4, 2, &indices, png::BitDepth::Two, &palette);
+    palette_png(&dir.join("i8.png"), 4, 2, &indices, png::BitDepth::Eight, &palette);
+    wrinkle::image::io::write_png_rgb8(&dir.join("swap.png"), 4, 1, &swapped.concat()).unwrap();
+    let grey =
+        wrinkle::image::GreyImage { width: 4, height: 2, pixels: indices.iter().map(|&i| i as f32 / 255.0).collect() };
+    wrinkle::image::io::write_png_grey8(&dir.join("grey.png"), &grey).unwrap();
+    let wide = |material: &str| {
+        let scene = unlit(&format!(
+            "[[object]]\nshape = \"patch\"\ncorners = [[-2.0, -1.0, 0.0], [2.0, -1.0, 0.0], [2.0, 1.0, 0.0], [-2.0, 1.0, 0.0]]\n\
+             [object.material]\ncolor = [1.0, 1.0, 1.0]\ntexture = {{ {material} }}\n"
+        ));
+        let scene = Scene::parse(&scene, &dir).unwrap_or_else(|e| panic!("{e}"));
+        let options = RenderOptions { width: 16, height: 8, aovs: Aovs::default(), ..Default::default() };
+        wrinkle::render(&scene, &options).unwrap().color
+    };
+    let linear = |c: u8| wrinkle::image::color::srgb_to_linear(c as f32 / 255.0);
+    let expect = |pixels: &[[f32; 3]], table: &[[u8; 3]], what: &str| {
+        for py in 0..8 {
+            for px in 0..16 {
+                let entry = table[indices[(py / 4) * 4 + px / 4] as usize].map(linear);
+                let got = pixels[py * 16 + px];
+                assert!(
+                    got.iter().zip(entry).all(|(g, w)| (g - w).abs() < 1e-6),
+                    "{what}: ({px}, {py}) {got:?} != {entry:?}"
+                );
+            }
+        }
+    };
+    expect(&wide("path = \"i2.png\", indexed = true"), &palette, "2-bit palette PNG");
+    expect(&wide("path = \"i8.png\", indexed = true"), &palette, "8-bit palette PNG");
+    expect(&wide("path = \"i8.png\", palette = \"swap.png\""), &swapped, "palette swapped");
+    expect(&wide("path = \"grey.png\", palette = \"swap.png\""), &swapped, "grey indices");
+    // The image expanded as usual is the same picture as its indices through its palette.
+    expect(&wide("path = \"i8.png\", filter = \"nearest\""), &palette, "expanded");
+
+    // The lookup after filtering: a grey ramp of 0 and 1 filtered bilinearly, then through a 3-entry table.
+    wrinkle::image::io::write_png_rgb8(&dir.join("lut.png"), 3, 1, &[255, 0, 0, 0, 255, 0, 0, 0, 255]).unwrap();
+    let ramp = wrinkle::image::GreyImage { width: 2, height: 1, pixels: vec![0.0, 1.0] };
+    wrinkle::image::io::write_png_grey8(&dir.join("ramp.png"), &ramp).unwrap();
+    let pixels = wide("path = \"ramp.png\", lut = \"lut.png\", srgb = false, filter = \"bilinear\", wrap = \"clamp\"");
+    for px in 0..16 {
+        // Texel centres at u = 1/4 and 3/4; the intensity rises linearly between them.
+        let u = (px as f32 + 0.5) / 16.0;
+        let t = ((u - 0.25) * 2.0).clamp(0.0, 1.0);
+        let want = if t < 0.5 { [1.0 - 2.0 * t, 2.0 * t, 0.0] } else { [0.0, 2.0 - 2.0 * t, 2.0 * t - 1.0] };
+        let got = pixels[4 * 16 + px];
+        assert!(got.iter().zip(want).all(|(g, w)| (g - w).abs() < 1e-4), "lut at {px}: {got:?} != {want:?}");
+    }
+
+    // Errors: an index past the palette, grey indices without a palette, a filter other than nearest.
+    wrinkle::image::io::write_png_rgb8(&dir.join("short.png"), 2, 1, &[1, 2, 3, 4, 5, 6]).unwrap();
+    for (material, want) in [
+        ("path = \"i8.png\", palette = \"short.png\"", "index 3 is outside the palette's 2 entries"),
+        ("path = \"grey.png\", indexed = true", "has no palette"),
+        ("path = \"i8.png\", indexed = true, filter = \"trilinear\"", "looked up by nearest index"),
+        ("path = \"swap.png\", indexed = true", "expected colour indices"),
+        ("path = \"i8.png\", indexed = true, lut = \"lut.png\"", "not both"),
+    ] {
+        let text = unlit(&quad(0.0, &format!("texture = {{ {material} }}")));
+        let err = Scene::parse(&text, &dir).err().unwrap_or_else(|| panic!("accepted: {material}")).to_string();
+        assert!(err.contains(want), "{material}: {err}");
+    }
+}

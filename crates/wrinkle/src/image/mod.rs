@@ -1,6 +1,7 @@
 //! Image buffers and colour spaces. Pixels are stored row by row, row 0 at the top of the picture.
 
 pub mod color;
+pub mod indexed;
 pub mod io;
 pub mod output;
 pub mod resample;

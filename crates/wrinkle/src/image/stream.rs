@@ -255,7 +255,7 @@ fn check_side(path: &Path, width: usize, height: usize) -> Result<()> {
     }
 }
 
-fn png_error(path: &Path, e: png::DecodingError) -> Error {
+pub(crate) fn png_error(path: &Path, e: png::DecodingError) -> Error {
     match e {
         png::DecodingError::IoError(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
             Error::read(path, "truncated or corrupt PNG: unexpected end of file")

@@ -7,10 +7,13 @@ use super::load::{resolve, uv_transform};
 use super::mapping::parse_mapping;
 use crate::bump::normal_map::Convention;
 use crate::bump::TangentNormalMap;
-use crate::image::io;
+use crate::image::color::srgb8_decode_table;
+use crate::image::{indexed, io};
 use crate::limits;
 use crate::mapping::{MappedTexture, Mapping};
-use crate::texture::{Filter, FilterOptions, FilteredTexture, LevelRule, MipFilter, TextureOptions, Wrap};
+use crate::texture::colour_table::{IndexedTexture, LutTexture};
+use crate::texture::reconstruct::Kernel;
+use crate::texture::{Filter, FilterOptions, FilteredTexture, LevelRule, MipFilter, Texture, TextureOptions, Wrap};
 use crate::{Error, Result};
 use glam::Vec4;
 use std::path::Path;
@@ -30,6 +33,9 @@ const TEXTURE_FIELDS: &[&str] = &[
     "mipmap",
     "level",
     "max_aniso",
+    "indexed",
+    "palette",
+    "lut",
 ];
 /// A normal map's fields beside the texture's.
 const NORMAL_MAP_FIELDS: &[&str] = &["strength", "convention"];
@@ -133,11 +139,77 @@ fn parse_texture_with(
                 filter,
             };
             let mapping = parse_mapping(&f.at("mapping"), f.get("mapping"), uv_transform(&f)?)?;
-            (file, f.at("path"), options, f.boolean("srgb", srgb_default)?, mapping)
+            let srgb = f.boolean("srgb", srgb_default)?;
+            let path = resolve(base, &f.at("path"), file)?;
+            if let Some(source) = colour_table(&f, &path, base, srgb, &options, &mapping)? {
+                return Ok(source);
+            }
+            (file, f.at("path"), options, srgb, mapping)
         }
     };
     let (texture, rgba) = load_texture(&resolve(base, &file_field, file)?, srgb, options)?;
     Ok(Source { mapped: MappedTexture { texture: Arc::new(texture), mapping }, rgba })
+}
+
+/// A colour table texture, where the table asks for one: `indexed = true` or a `palette` file (indices
+/// looked up by nearest index in the file's own palette or the given one), or a `lut` file (the image
+/// filtered as an intensity, then mapped through the LUT's first row). The colours of a palette or LUT are
+/// decoded from sRGB with `srgb`; the texture is RGBA when one of them is not opaque.
+fn colour_table(
+    f: &Fields,
+    path: &Path,
+    base: &Path,
+    srgb: bool,
+    options: &TextureOptions,
+    mapping: &Mapping,
+) -> Result<Option<Source>> {
+    let decode = |entries: &[[u8; 4]]| -> Vec<Vec4> {
+        let table = if srgb { srgb8_decode_table() } else { std::array::from_fn(|i| i as f32 / 255.0) };
+        entries
+            .iter()
+            .map(|c| Vec4::new(table[c[0] as usize], table[c[1] as usize], table[c[2] as usize], c[3] as f32 / 255.0))
+            .collect()
+    };
+    let opaque = |entries: &[[u8; 4]]| entries.iter().all(|c| c[3] == 255);
+    let indexed = f.boolean("indexed", false)? || f.get("palette").is_some();
+    let (texture, rgba): (Arc<dyn Texture>, bool) = match (indexed, f.get("lut")) {
+        (true, Some(_)) => {
+            return Err(Error::scene(f.at("lut"), "give an indexed texture (indexed, palette) or a lut, not both"))
+        }
+        (true, None) => {
+            if options.filter.filter != Filter::Reconstruct(Kernel::Nearest) && f.get("filter").is_some() {
+                return Err(Error::scene(
+                    f.at("filter"),
+                    "an indexed texture is looked up by nearest index: filter = \"nearest\" or none",
+                ));
+            }
+            let image = indexed::load_indices(path)?;
+            let palette = match f.get("palette") {
+                Some(_) => {
+                    let name =
+                        f.string("palette")?.ok_or_else(|| Error::scene(f.at("palette"), "expected a file name"))?;
+                    indexed::load_palette(&resolve(base, &f.at("palette"), name)?)?
+                }
+                None => image
+                    .palette
+                    .ok_or_else(|| Error::read(path, "has no palette (grey indices): give palette = \"file\""))?,
+            };
+            let texture = IndexedTexture::new(image.indices, decode(&palette), options.wrap, options.border)
+                .map_err(|m| Error::read(path, m))?;
+            (Arc::new(texture), !opaque(&palette))
+        }
+        (false, Some(_)) => {
+            let name = f.string("lut")?.ok_or_else(|| Error::scene(f.at("lut"), "expected a file name"))?;
+            let lut_path = resolve(base, &f.at("lut"), name)?;
+            let lut = io::load_rgba8(&lut_path)?;
+            let row = &lut.pixels[..lut.width];
+            // The intensity is data, filtered as the texture's options say.
+            let (intensity, _) = load_texture(path, false, *options)?;
+            (Arc::new(LutTexture::new(Arc::new(intensity), decode(row))), !opaque(row))
+        }
+        (false, None) => return Ok(None),
+    };
+    Ok(Some(Source { mapped: MappedTexture { texture, mapping: *mapping }, rgba }))
 }
 
 /// An image file as a filtered texture, and whether the file has an alpha channel.

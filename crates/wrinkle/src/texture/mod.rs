@@ -2,6 +2,7 @@
 //! footprint in texture space.
 
 pub mod aniso;
+pub mod colour_table;
 pub mod context;
 pub mod ewa;
 pub mod filter;
