@@ -36,18 +36,23 @@ pub enum KernelArg {
     Scharr,
 }
 
-/// Make a tangent-space normal map (RGB = (n + 1) / 2) from a grey height image
+/// Make a tangent-space normal map (RGB = (n + 1) / 2), or an offset vector map, from a grey height image
 #[derive(Args, Debug)]
 #[command(after_help = "\
 The surface is z = STRENGTH * h(x, y) with h the grey value in [0, 1] and x, y in pixels: STRENGTH is the
 height of white above black in pixels (the same surface as `emboss --width` and `bump --scale`).
+With --offset the map stores that surface's slopes instead (the slides' offset vectors, Bu and Bv in
+tangent space): R = (dz/dx + 1) / 2, G = (dz/dy + 1) / 2 (y up the picture), B = 0, slopes clamped to
+[-1, 1]. A scene reads it as `bump = { offsets = \"map.png\", scale = S }`: the same bumps as the height
+map with `bump = { map = \"height.png\", scale = H }` when S = H * WIDTH / STRENGTH.
 Border pixels read the nearest edge pixel, or the opposite edge with --wrap (tileable maps).
 RGB heights become 0.2126 R + 0.7152 G + 0.0722 B. The map is data: no gamma.
 
 Examples:
   wrinkle normalmap height.png -o normal.png
   wrinkle normalmap tile.png -o tile_n.png --strength 8 --wrap --depth 16
-  wrinkle normalmap height.png -o normal_dx.png --convention directx --kernel scharr")]
+  wrinkle normalmap height.png -o normal_dx.png --convention directx --kernel scharr
+  wrinkle normalmap height.png -o offsets.png --offset --strength 1 --depth 16")]
 pub struct NormalmapArgs {
     /// Height image (PNG 8 or 16 bit, JPEG, BMP, TGA, TIFF); white is high
     pub input: PathBuf,
@@ -69,6 +74,9 @@ pub struct NormalmapArgs {
     /// Bits per channel: 8 or 16
     #[arg(long, default_value_t = 8)]
     pub depth: u8,
+    /// Write an offset vector map (the surface's slopes in R and G) instead of normals
+    #[arg(long)]
+    pub offset: bool,
     #[command(flatten)]
     pub stream: StreamArgs,
 }
@@ -97,10 +105,19 @@ pub fn run(args: &NormalmapArgs) -> Result<()> {
         (Edges::Clamp, None)
     };
     let rows = RowFormat { channels: 3, sixteen };
+    let offset = args.offset;
     let filter = |_y: usize, win: Window, _: Option<&[u8]>, scratch: &mut [f32], out: &mut [u8]| {
         let (nx, rest) = scratch.split_at_mut(w);
         let (ny, nz) = rest.split_at_mut(w);
-        map.normals_row(win, nx, ny, nz);
+        if offset {
+            // Slopes in [-1, 1] stored like normal components, B at 0.
+            map.slopes_row(win, nx, ny);
+            for ((x, y), z) in nx.iter_mut().zip(ny.iter_mut()).zip(nz.iter_mut()) {
+                (*x, *y, *z) = (x.clamp(-1.0, 1.0), y.clamp(-1.0, 1.0), -1.0);
+            }
+        } else {
+            map.normals_row(win, nx, ny, nz);
+        }
         encode_rgb(nx, ny, nz, sixteen, out);
     };
     write_filtered("normalmap", &args.stream, compression, &args.output, (w, h), rows, start, |sink, progress| {

@@ -374,3 +374,69 @@ fn bump_through_the_renderer_agrees_with_emboss_on_a_ramp() {
     let t = load_rgba8(Path::new(&textured)).unwrap();
     assert_eq!((t.width, t.height), (w, h));
 }
+
+/// An offset vector map made by `normalmap --offset` (central differences, 16 bits) renders the same bumps as
+/// the height map it came from read as a bump table (Blinn's central differences of one table step): the
+/// scale S = H * width / strength turns the stored per-pixel slopes into F's slopes per texture period.
+#[test]
+fn offset_maps_render_like_their_height_maps() {
+    let s = Scratch::new("offset-map");
+    let n = 64;
+    let tau = std::f64::consts::TAU;
+    let heights: Vec<u8> = (0..n * n)
+        .flat_map(|k| {
+            let (x, y) = ((k % n) as f64, (k / n) as f64);
+            let h = 0.5 + 0.25 * (tau * 2.0 * x / n as f64).sin() * (tau * 3.0 * y / n as f64).cos();
+            ((h * 65535.0).round() as u16).to_be_bytes()
+        })
+        .collect();
+    let height = s.input("h.png");
+    write_input(&height, n, n, GREY16, &heights);
+    let offsets = s.input("off.png");
+    let args = [
+        "normalmap",
+        &height,
+        "-o",
+        &offsets,
+        "--offset",
+        "--strength",
+        "2",
+        "--depth",
+        "16",
+        "--kernel",
+        "central",
+        "--wrap",
+    ];
+    assert_ok(&wrinkle(&args));
+    let normals = |bump: &str| {
+        let text = format!(
+            "[camera]\neye = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\nfov_y = 35.0\n\n[[light]]\ntype = \"ambient\"\n\n\
+             [[object]]\nshape = \"sphere\"\n[object.material.bump]\n{bump}\n"
+        );
+        let scene = wrinkle::Scene::parse(&text, Path::new("/")).unwrap_or_else(|e| panic!("{e}"));
+        let aovs = wrinkle::render::Aovs { normal: true, ..Default::default() };
+        let options = wrinkle::RenderOptions { width: 64, height: 64, aovs, ..Default::default() };
+        wrinkle::render(&scene, &options).unwrap().normal.unwrap()
+    };
+    let table = normals(&format!(
+        "map = \"{height}\"\nscale = 0.1\nrepeat = [2, 1]\nfilter = \"none\"\ninterp = \"bilinear\""
+    ));
+    // S = 0.1 * 64 / 2.
+    let offset = normals(&format!("offsets = \"{offsets}\"\nscale = 3.2\nrepeat = [2, 1]\nfilter = \"bilinear\""));
+    let angle = |a: [f32; 3], b: [f32; 3]| {
+        let d = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        (d.clamp(-1.0, 1.0) as f64).acos().to_degrees()
+    };
+    let (mut worst, mut bumped, mut seen) = (0.0f64, 0, 0);
+    let unbumped = normals(&format!("map = \"{height}\"\nscale = 0.0"));
+    for k in 0..64 * 64 {
+        if table[k][0].is_nan() {
+            continue;
+        }
+        seen += 1;
+        worst = worst.max(angle(table[k], offset[k]));
+        bumped += usize::from(angle(table[k], unbumped[k]) > 2.0);
+    }
+    assert!(seen > 1000 && bumped > seen / 2, "{bumped} of {seen} pixels visibly bumped");
+    assert!(worst < 0.05, "offset map against height table: {worst} degrees");
+}

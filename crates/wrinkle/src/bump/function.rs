@@ -10,7 +10,7 @@ use super::{BumpFormula, Gradient};
 use crate::lanes::F8;
 use crate::mapping::Mapping;
 use crate::procedural::solid::{Procedural, Space};
-use crate::texture::{Filter, FilterOptions, LookupContext, LookupContext8};
+use crate::texture::{Filter, FilterOptions, FilteredTexture, LookupContext, LookupContext8};
 use glam::{Vec2, Vec3};
 use std::sync::Arc;
 
@@ -20,6 +20,10 @@ pub enum BumpSource {
     Table(Arc<BumpTable>),
     /// A procedural pattern t: F = scale * t, with Fu and Fv from its analytic gradient.
     Procedural(Arc<Procedural>),
+    /// An offset vector map (the slides' "offset vector" map, in tangent space): Bs and Bt, F's slopes along
+    /// the texture's s and t per period, stored in R and G as (b + 1) / 2 (green up the picture) and filtered
+    /// like a colour texture: Fs = scale * Bs, Ft = scale * Bt. F itself is not stored (it reads 0).
+    Offsets(Arc<FilteredTexture>),
 }
 
 /// A bump function on a surface: F = scale * (the source at the mapped coordinates, or at the point).
@@ -55,6 +59,7 @@ impl BumpMap {
         let table = match &self.source {
             BumpSource::Table(t) => t,
             BumpSource::Procedural(p) => return self.procedural(p, ctx),
+            BumpSource::Offsets(map) => return self.offsets(map, ctx, filter),
         };
         let (mapped, jacobian) = self.mapping.apply_with_jacobian(ctx);
         let g = table.lookup(mapped.uv.x, mapped.uv.y, &mapped.footprint, filter);
@@ -75,6 +80,19 @@ impl BumpMap {
         let [ku, kv] = self.chain(jacobian);
         let k = F8::splat;
         [k(self.scale) * f, fs * k(ku.x) + ft * k(ku.y), fs * k(kv.x) + ft * k(kv.y)]
+    }
+
+    /// An offset vector map's slopes along s and t, carried to u and v through the mapping's Jacobian.
+    fn offsets(&self, map: &FilteredTexture, ctx: &LookupContext, filter: &FilterOptions) -> Gradient {
+        let (mapped, jacobian) = self.mapping.apply_with_jacobian(ctx);
+        let (s, t, fp) = (mapped.uv.x, mapped.uv.y, &mapped.footprint);
+        let c = match map.options().filter == *filter {
+            true => map.lookup(s, t, fp),
+            false => map.with_options(*filter).lookup(s, t, fp),
+        };
+        let (bs, bt) = (2.0 * c.x - 1.0, 2.0 * c.y - 1.0);
+        let [ku, kv] = self.chain(jacobian);
+        Gradient { f: 0.0, fu: bs * ku.x + bt * ku.y, fv: bs * kv.x + bt * kv.y }
     }
 
     /// A procedural bump: in object space by the chain rule through the surface, Fu = grad t . Pu; in uv

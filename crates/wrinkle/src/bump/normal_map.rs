@@ -52,16 +52,16 @@ impl NormalMap {
         }
     }
 
-    /// The unit normal of every pixel of a row from its padded window (heights in [0, 1]), as three
-    /// planes: x, y (in the map's convention) and z.
+    /// The slopes (gx, gy) of z = strength * h per pixel along x and y (y in the map's convention) of every
+    /// pixel of a row from its padded window (heights in [0, 1]): the offset vectors.
     #[inline]
-    pub fn normals_row(&self, win: Window, nx: &mut [f32], ny: &mut [f32], nz: &mut [f32]) {
-        let n = nx.len();
+    pub fn slopes_row(&self, win: Window, gx: &mut [f32], gy: &mut [f32]) {
+        let n = gx.len();
         let (a, b, c) = (&win.above[..n + 2], &win.row[..n + 2], &win.below[..n + 2]);
-        let (ny, nz) = (&mut ny[..n], &mut nz[..n]);
+        let gy = &mut gy[..n];
         let (k0, k1) = self.weights();
         // One pixel step: the kernel's response to h = x is 2 (k0 + k1 + k0).
-        let s = -self.strength / (2.0 * (2.0 * k0 + k1));
+        let s = self.strength / (2.0 * (2.0 * k0 + k1));
         let sy = match self.convention {
             Convention::OpenGl => s,
             Convention::DirectX => -s,
@@ -70,11 +70,22 @@ impl NormalMap {
             let du = k0 * (a[x + 2] - a[x]) + k1 * (b[x + 2] - b[x]) + k0 * (c[x + 2] - c[x]);
             // Up the picture is the row above.
             let dv = k0 * (a[x] - c[x]) + k1 * (a[x + 1] - c[x + 1]) + k0 * (a[x + 2] - c[x + 2]);
-            let (gx, gy) = (s * du, sy * dv);
+            gx[x] = s * du;
+            gy[x] = sy * dv;
+        }
+    }
+
+    /// The unit normal of every pixel of a row from its padded window (heights in [0, 1]), as three
+    /// planes: x, y (in the map's convention) and z: normalize(-gx, -gy, 1) of the slopes.
+    #[inline]
+    pub fn normals_row(&self, win: Window, nx: &mut [f32], ny: &mut [f32], nz: &mut [f32]) {
+        self.slopes_row(win, nx, ny);
+        for ((x, y), z) in nx.iter_mut().zip(ny.iter_mut()).zip(nz.iter_mut()) {
+            let (gx, gy) = (-*x, -*y);
             let inv = 1.0 / (gx * gx + gy * gy + 1.0).sqrt();
-            nx[x] = gx * inv;
-            ny[x] = gy * inv;
-            nz[x] = inv;
+            *x = gx * inv;
+            *y = gy * inv;
+            *z = inv;
         }
     }
 }

@@ -5,7 +5,7 @@ use super::fields::{clip_backquoted, number_value, points, quoted, vec3_value, F
 use super::layer::{parse_alpha_mode, parse_layers};
 use super::mapping::{parse_mapping, uv_list};
 use super::procedural;
-use super::texture::{parse_normal_map, parse_texture, Role};
+use super::texture::{load_texture, parse_normal_map, parse_texture, Role};
 use super::{CameraDesc, Object, Scene};
 use crate::bump::function::filter_choices;
 use crate::bump::generators::{BrickParams, Generator, GridParams, RivetParams, TextParams};
@@ -19,7 +19,7 @@ use crate::procedural::solid::Space;
 use crate::raster::Projection;
 use crate::shade::{AlphaMode, Layer, Material, Mode, Phong, Target};
 use crate::texture::reconstruct::Kernel;
-use crate::texture::{Filter, FilterOptions};
+use crate::texture::{Filter, FilterOptions, TextureOptions};
 use crate::{Error, Result};
 use glam::{Vec2, Vec3};
 use std::path::{Path, PathBuf};
@@ -457,6 +457,7 @@ fn parse_bump(path: &str, v: &Value, base: &Path) -> Result<BumpMap> {
             "map",
             "generator",
             "procedural",
+            "offsets",
             "scale",
             "repeat",
             "offset",
@@ -468,20 +469,23 @@ fn parse_bump(path: &str, v: &Value, base: &Path) -> Result<BumpMap> {
             "filter",
         ],
     )?;
-    // A table's image, or the procedural pattern's fields.
+    // A table's image, the procedural pattern's fields, or an offset map's file.
     enum Source<'a> {
         Image(crate::image::GreyImage),
         Procedural(&'a Value),
+        Offsets(PathBuf),
     }
-    let image = match (f.string("map")?, f.get("generator"), f.get("procedural")) {
-        (None, None, Some(p)) => Source::Procedural(p),
-        (_, _, Some(_)) => return Err(Error::scene(f.at("procedural"), "give one of map, generator, procedural")),
-        (Some(file), None, None) => Source::Image(io::load_grey(&resolve(base, &f.at("map"), file)?)?),
-        (None, Some(g), None) => Source::Image(parse_generator(&f.at("generator"), g)?),
-        (Some(_), Some(_), None) => {
-            return Err(Error::scene(f.at("generator"), "give either map or generator, not both"))
-        }
-        (None, None, None) => return Err(Error::scene(f.at("map"), "missing field (or give a generator)")),
+    let given: Vec<&str> =
+        ["map", "generator", "procedural", "offsets"].into_iter().filter(|k| f.get(k).is_some()).collect();
+    let image = match given[..] {
+        [] => return Err(Error::scene(f.at("map"), "missing field (or give a generator, procedural or offsets)")),
+        [_, second, ..] => return Err(Error::scene(f.at(second), "give one of map, generator, procedural, offsets")),
+        [one] => match one {
+            "map" => Source::Image(io::load_grey(&resolve(base, &f.at(one), f.required(one, f.string(one)?)?)?)?),
+            "generator" => Source::Image(parse_generator(&f.at(one), &v[one])?),
+            "procedural" => Source::Procedural(&v[one]),
+            _ => Source::Offsets(resolve(base, &f.at(one), f.required(one, f.string(one)?)?)?),
+        },
     };
     let invariant = f.boolean("invariant", false)?;
     let full = f.choice("formula", false, &[("blinn", false), ("full", true)])?;
@@ -504,6 +508,14 @@ fn parse_bump(path: &str, v: &Value, base: &Path) -> Result<BumpMap> {
                 return Err(Error::scene(f.at(key), "applies to tables and space = \"uv\" patterns only"));
             }
             BumpSource::Procedural(Arc::new(pattern))
+        }
+        Source::Offsets(file) => {
+            if formula == BumpFormula::Full {
+                return Err(Error::scene(f.at("formula"), "an offset map stores Fu and Fv, not F: use \"blinn\""));
+            }
+            let filter = FilterOptions { filter: bump_filter(&f)?, ..FilterOptions::default() };
+            let (texture, _) = load_texture(&file, false, TextureOptions { filter, ..TextureOptions::default() })?;
+            BumpSource::Offsets(Arc::new(texture))
         }
     };
     Ok(BumpMap {
