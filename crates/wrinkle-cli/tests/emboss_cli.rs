@@ -418,9 +418,8 @@ fn offset_maps_render_like_their_height_maps() {
         let options = wrinkle::RenderOptions { width: 64, height: 64, aovs, ..Default::default() };
         wrinkle::render(&scene, &options).unwrap().normal.unwrap()
     };
-    let table = normals(&format!(
-        "map = \"{height}\"\nscale = 0.1\nrepeat = [2, 1]\nfilter = \"none\"\ninterp = \"bilinear\""
-    ));
+    let table =
+        normals(&format!("map = \"{height}\"\nscale = 0.1\nrepeat = [2, 1]\nfilter = \"none\"\ninterp = \"bilinear\""));
     // S = 0.1 * 64 / 2.
     let offset = normals(&format!("offsets = \"{offsets}\"\nscale = 3.2\nrepeat = [2, 1]\nfilter = \"bilinear\""));
     let angle = |a: [f32; 3], b: [f32; 3]| {

@@ -156,6 +156,13 @@ fn layers_chain_and_reach_every_target() {
     ))
     .replace("type = \"ambient\"", "type = \"ambient\"\nintensity = 0.0");
     assert_eq!(render(&dark, &dir, 8, 1).color[36], [1.0, 0.0, 0.0]);
+    // Emission is light, not a reflectance: add is not clamped.
+    let brighter = dark.replace("mode = \"replace\"", "mode = \"add\"").replacen(
+        "[[object.material.layer]]",
+        "emission = [0.5, 0.25, 0.0]\n[[object.material.layer]]",
+        1,
+    );
+    assert_eq!(render(&brighter, &dir, 8, 1).color[36], [1.5, 0.25, 0.0]);
 }
 
 /// A 2x1 alpha texture, transparent on its left half, opaque white on its right: with nearest filtering

@@ -23,6 +23,16 @@ fn quad(tangents: Option<[f32; 4]>, mirrored: bool) -> Primitive {
     }
 }
 
+/// q.obj in `dir`: the 2x2 quad of `quad` (u along +x, v up) with material `m` of q.mtl.
+fn write_obj_quad(dir: &Path) {
+    std::fs::write(
+        dir.join("q.obj"),
+        "mtllib q.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
+         usemtl m\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n",
+    )
+    .unwrap();
+}
+
 /// The scene: the model `file` seen head-on from +z, its centre pixel's world normal.
 fn centre_normal(dir: &Path, file: &str) -> DVec3 {
     let text = format!(
@@ -123,12 +133,7 @@ fn every_loader_path_gives_the_same_picture() {
     std::fs::write(dir.join("s.gltf"), separate).unwrap();
     std::fs::write(dir.join("s.bin"), bin).unwrap();
     std::fs::write(dir.join("b.glb"), file.write(Layout::Binary, "").0).unwrap();
-    std::fs::write(
-        dir.join("q.obj"),
-        "mtllib q.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
-         usemtl m\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n",
-    )
-    .unwrap();
+    write_obj_quad(&dir);
     std::fs::write(dir.join("q.mtl"), "newmtl m\nKd 0.5 1 1\nmap_Kd colour.png\n").unwrap();
     // Lit by an ambient light of 1: the colour is the albedo, base colour factor times the texel.
     let srgb = |c: f64| if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) };
@@ -511,12 +516,7 @@ fn model_files_cut_by_their_alpha() {
         &(0..8).flat_map(|x| [if x < 4 { 0 } else { 255 }; 3]).collect::<Vec<u8>>(),
     )
     .unwrap();
-    std::fs::write(
-        dir.join("q.obj"),
-        "mtllib q.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n\
-         usemtl m\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n",
-    )
-    .unwrap();
+    write_obj_quad(&dir);
     std::fs::write(dir.join("q.mtl"), "newmtl m\nKd 0.5 1 1\nmap_d d.png\n").unwrap();
     assert_eq!(cut(&scene("q.obj", "")), [true, false]);
     // d = 0.4 scales the mask below the cutoff everywhere.

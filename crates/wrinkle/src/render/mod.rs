@@ -172,6 +172,7 @@ pub fn render_with_progress(
         volumes: &scene.volumes,
         lights: &scene.lights,
         cutoffs: &cutoffs,
+        any_masked: cutoffs.iter().any(Option::is_some),
     };
     let (bands_done, bands) = (AtomicUsize::new(0), bins.tiles_y);
     let band_aovs: Vec<frame::AovBand> = frame
@@ -334,6 +335,8 @@ struct TileJob<'a> {
     lights: &'a [Light],
     /// Per surface, the alpha cutoff of its material where the alpha test applies.
     cutoffs: &'a [Option<f32>],
+    /// Whether any surface is masked (else tiles skip the alpha test).
+    any_masked: bool,
 }
 
 impl TileJob<'_> {
@@ -363,7 +366,7 @@ impl TileJob<'_> {
             return;
         }
         scratch.vis.render_tile(self.bins, tile, (w, h), self.triangles, self.pattern);
-        if self.cutoffs.iter().any(Option::is_some) {
+        if self.any_masked {
             self.mask(scratch, tile);
         }
         let TileScratch { vis, shaded, .. } = scratch;

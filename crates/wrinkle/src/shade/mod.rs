@@ -178,7 +178,8 @@ impl ShadeContext<'_> {
         let mut kd = (V3::splat(material.color), F8::splat(material.opacity));
         let mut uv = None;
         let (mut ks, mut shininess, mut emission) = (F8::splat(material.phong.specular), None, None);
-        for layer in &material.layers {
+        // Alpha matters only to the alpha test, which has already kept these samples.
+        for layer in material.layers.iter().filter(|l| l.target != Target::Opacity) {
             let texel = match (layer.target, uv) {
                 (Target::Kd, None) => {
                     let (texel, coords) = layer.source.eval8_with_coords(&ctx);
@@ -191,14 +192,17 @@ impl ShadeContext<'_> {
             match layer.target {
                 Target::Kd => kd = layer.mode.colour8(kd, (V3 { x: r, y: g, z: b }, a), layer.rgba),
                 Target::Emission => {
-                    let ef = (emission.unwrap_or(V3::splat(material.emission)), F8::ONE);
-                    emission = Some(layer.mode.colour8(ef, (V3 { x: r, y: g, z: b }, a), layer.rgba).0);
+                    let (ef, ct) = (emission.unwrap_or(V3::splat(material.emission)), V3 { x: r, y: g, z: b });
+                    // Emitted light is not a reflectance: add is not clamped to 1.
+                    emission = Some(match layer.mode {
+                        Mode::Add => ef + ct,
+                        mode => mode.colour8((ef, F8::ONE), (ct, a), layer.rgba).0,
+                    });
                 }
                 Target::Ks => ks = layer.mode.scalar8(ks, layer.scalar_texel(texel)),
                 Target::Shininess => {
                     shininess = Some(layer.mode.scalar8(shininess.unwrap_or(F8::ONE), layer.scalar_texel(texel)))
                 }
-                // Alpha matters only to the alpha test, which has already kept this sample.
                 Target::Opacity => {}
             }
         }
