@@ -523,3 +523,34 @@ fn model_files_cut_by_their_alpha() {
     std::fs::write(dir.join("q.mtl"), "newmtl m\nKd 0.5 1 1\nd 0.4\nmap_d d.png\n").unwrap();
     assert_eq!(cut(&scene("q.obj", "")), [true, true]);
 }
+
+/// Emission from model files: glTF's emissiveFactor x emissiveTexture (sRGB) x KHR_materials_emissive_strength,
+/// and an OBJ's Ke, seen with no light at all.
+#[test]
+fn model_files_emit_what_their_materials_say() {
+    let dir = scratch_dir("model-emission");
+    let centre = |file: &str| {
+        let text = format!(
+            "[camera]\neye = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\nprojection = \"orthographic\"\nheight = 2.0\n\n\
+             [[light]]\ntype = \"ambient\"\nintensity = 0.0\n\n[[object]]\nshape = \"mesh\"\nfile = \"{file}\"\n"
+        );
+        render_all_aovs(&text, &dir, 9, 9, 1).color[4 * 9 + 4]
+    };
+    let material = "{\"emissiveFactor\": [0.5, 0.25, 1.0], \"emissiveTexture\": {\"index\": 0}, \
+                    \"extensions\": {\"KHR_materials_emissive_strength\": {\"emissiveStrength\": 2.0}}}";
+    let file = File {
+        primitive: quad(None, false),
+        matrix: None,
+        material: material.into(),
+        png: Some(png_of(&dir, [255, 128, 0])),
+    };
+    std::fs::write(dir.join("glow.glb"), file.write(Layout::Binary, "").0).unwrap();
+    let srgb = |c: f64| if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) };
+    let want = [2.0 * 0.5, 2.0 * 0.25 * srgb(128.0 / 255.0), 0.0];
+    let got = centre("glow.glb");
+    assert!(got.iter().zip(want).all(|(&g, w)| (g as f64 - w).abs() < 1e-5), "glTF emission {got:?} != {want:?}");
+
+    write_obj_quad(&dir);
+    std::fs::write(dir.join("q.mtl"), "newmtl m\nKd 0.5 1 1\nKe 0.2 0.4 0.6\n").unwrap();
+    assert_eq!(centre("q.obj"), [0.2, 0.4, 0.6]);
+}

@@ -13,7 +13,7 @@ use crate::geometry::TriangleMesh;
 use crate::image::color::srgb_to_linear;
 use crate::image::Image;
 use crate::mapping::{MappedTexture, Mapping, Projection, UvTransform};
-use crate::shade::{AlphaMode, Layer, Material, Phong};
+use crate::shade::{AlphaMode, Layer, Material, Phong, Target};
 use crate::texture::reconstruct::Kernel;
 use crate::texture::{Filter, FilterOptions, FilteredTexture, Texture, TextureOptions, Wrap};
 use crate::{Error, Result};
@@ -364,13 +364,29 @@ fn check_size<T>(px: &[T], w: usize, h: usize) -> std::result::Result<(), String
 fn material(m: &gltf::Material, textures: &mut Textures) -> std::result::Result<Material, String> {
     let pbr = m.pbr_metallic_roughness();
     let [r, g, b, a] = pbr.base_color_factor();
-    let layers = match pbr.base_color_texture() {
-        Some(info) => {
-            let transform = info.texture_transform().map(TextureTransform::of_info);
-            let source = textures.get(info.texture(), info.tex_coord(), transform, true)?;
-            vec![Layer::modulate_kd(source.mapped, source.rgba)]
-        }
-        None => Vec::new(),
+    let mut layers = Vec::new();
+    if let Some(info) = pbr.base_color_texture() {
+        let transform = info.texture_transform().map(TextureTransform::of_info);
+        let source = textures.get(info.texture(), info.tex_coord(), transform, true)?;
+        layers.push(Layer::modulate_kd(source.mapped, source.rgba));
+    }
+    // Emission: emissiveFactor x emissiveTexture (sRGB, its alpha unused) x KHR_materials_emissive_strength.
+    if let Some(info) = m.emissive_texture() {
+        let transform = info.texture_transform().map(TextureTransform::of_info);
+        let source = textures.get(info.texture(), info.tex_coord(), transform, true)?;
+        layers.push(Layer {
+            source: source.mapped,
+            target: Target::Emission,
+            mode: crate::shade::Mode::Modulate,
+            rgba: false,
+        });
+    }
+    let strength = match m.extension_value("KHR_materials_emissive_strength") {
+        None => 1.0,
+        Some(v) => v
+            .get("emissiveStrength")
+            .map_or(Some(1.0), |s| s.as_f64().filter(|s| s.is_finite() && *s >= 0.0))
+            .ok_or("KHR_materials_emissive_strength has a malformed emissiveStrength")? as f32,
     };
     let normal_map = match m.normal_texture() {
         Some(n) => Some(TangentNormalMap {
@@ -392,6 +408,7 @@ fn material(m: &gltf::Material, textures: &mut Textures) -> std::result::Result<
     Ok(Material {
         color: Vec3::new(r, g, b),
         opacity: a,
+        emission: (Vec3::from_array(m.emissive_factor()) * strength).max(Vec3::ZERO),
         layers,
         alpha_mode,
         phong: Phong::new(0.04, 40.0),

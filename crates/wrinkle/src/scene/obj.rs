@@ -1,5 +1,6 @@
 //! Wavefront OBJ models through `tobj`, with their .mtl materials: Kd, Ks, Ns, d, map_Kd (colour), map_Ks
-//! (specular), map_Ns (the exponent), map_d (dissolve: a cutout under the alpha test), bump / map_Bump with
+//! (specular), map_Ns (the exponent), map_d (dissolve: a cutout under the alpha test), Ke and map_Ke
+//! (emission), bump / map_Bump with
 //! `-bm` (a height map for Blinn's bump mapping), norm (a tangent-space normal map). Texture options `-bm`, `-o`, `-s` and `-clamp` are read; the other standard options are
 //! accepted and ignored.
 
@@ -111,7 +112,8 @@ struct ObjMaterial {
     specular: f32,
     shininess: f32,
     opacity: f32,
-    /// map_Kd, map_Ks, map_Ns and map_d as texture layers.
+    emission: Vec3,
+    /// map_Kd, map_Ks, map_Ns, map_d and map_Ke as texture layers.
     layers: Vec<Layer>,
     bump: Option<(Arc<BumpTable>, f32, UvTransform)>,
     normal_map: Option<MappedTexture>,
@@ -123,6 +125,7 @@ impl ObjMaterial {
         Material {
             color: self.color,
             opacity: self.opacity,
+            emission: self.emission,
             layers: self.layers.clone(),
             // A dissolve map cuts leaves and fences out (the alpha test); sorted transparency is not built.
             alpha_mode: if cutout { AlphaMode::Mask { cutoff: 0.5 } } else { AlphaMode::Opaque },
@@ -162,6 +165,7 @@ fn material(m: &tobj::Material, dir: &Path) -> Result<ObjMaterial> {
         (&m.specular_texture, Target::Ks, false),
         (&m.shininess_texture, Target::Shininess, false),
         (&m.dissolve_texture, Target::Opacity, false),
+        (&m.unknown_param.get("map_Ke").cloned(), Target::Emission, true),
     ] {
         if let Some((source, rgba)) = map(spec, srgb)? {
             layers.push(Layer { source, target, mode: Mode::Modulate, rgba });
@@ -182,6 +186,7 @@ fn material(m: &tobj::Material, dir: &Path) -> Result<ObjMaterial> {
         // Ns runs 0..1000; Blinn-Phong needs a positive exponent.
         shininess: m.shininess.map_or(20.0, |n| n.max(1.0)),
         opacity: m.dissolve.map_or(1.0, |d| if d.is_finite() { d.clamp(0.0, 1.0) } else { 1.0 }),
+        emission: m.emissive.map_or(Vec3::ZERO, |e| Vec3::from_array(e).max(Vec3::ZERO)),
         layers,
         bump,
         normal_map: map(&m.unknown_param.get("norm").cloned(), false)?.map(|(texture, _)| texture),
