@@ -142,7 +142,6 @@ impl ObjMaterial {
                 strength: 1.0,
                 convention: Convention::OpenGl,
             }),
-            ..Material::default()
         }
     }
 }
