@@ -82,6 +82,8 @@ pub fn image_exr(data: &[u8]) {
     let _ = io::read_exr_channels(&path);
     let _ = io::load_grey(&path);
     let _ = io::load_texels(&path, srgb_of(data));
+    let _ = wrinkle::image::indexed::load_indices(&path);
+    let _ = wrinkle::image::indexed::load_palette(&path);
 }
 
 /// An image file (recognised by content, else by the extension `ext`) as a height map, as a colour

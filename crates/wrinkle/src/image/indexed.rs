@@ -28,11 +28,12 @@ pub fn load_indices(path: &Path) -> Result<IndexImage> {
         decoder.set_limits(png::Limits { bytes: usize::MAX });
         let mut reader = decoder.read_info().map_err(|e| png_error(path, e))?;
         let info = reader.info();
+        use png::BitDepth as B;
         let (width, height) = (info.width as usize, info.height as usize);
         check_size(width, height).map_err(|m| Error::read(path, m))?;
         let bits = match (info.color_type, info.bit_depth) {
-            (png::ColorType::Indexed, depth) => depth as usize,
-            (png::ColorType::Grayscale, png::BitDepth::Eight) => 8,
+            (png::ColorType::Indexed, depth @ (B::One | B::Two | B::Four | B::Eight)) => depth as usize,
+            (png::ColorType::Grayscale, B::Eight) => 8,
             (color, depth) => return Err(not_indices(path, &format!("a {color:?} PNG of {} bits", depth as u8))),
         };
         let palette = info.palette.as_ref().map(|rgb| {
@@ -82,4 +83,37 @@ pub fn load_palette(path: &Path) -> Result<Vec<[u8; 4]>> {
         ));
     }
     Ok(image.pixels)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::image::scratch::Scratch;
+
+    /// A 2-bit palette PNG with a tRNS chunk: indices unpacked from their bytes, the palette's
+    /// alphas from tRNS (opaque past its end); a 16-bit grey PNG is refused.
+    #[test]
+    fn palette_pngs_keep_their_indices() {
+        let s = Scratch::new("indexed");
+        let path = s.path("p.png");
+        let mut encoder = png::Encoder::new(std::fs::File::create(&path).unwrap(), 5, 2);
+        encoder.set_color(png::ColorType::Indexed);
+        encoder.set_depth(png::BitDepth::Two);
+        encoder.set_palette(vec![255, 0, 0, 0, 255, 0, 0, 0, 255, 9, 9, 9]);
+        encoder.set_trns(vec![255, 128]);
+        // Rows of 5 two-bit indices: 0 1 2 3 | 1, then 3 2 1 0 | 2 (two bytes a row, low bits padded).
+        let rows = [0b00_01_10_11, 0b01_000000, 0b11_10_01_00, 0b10_000000];
+        encoder.write_header().unwrap().write_image_data(&rows).unwrap();
+        let image = load_indices(&path).unwrap();
+        assert_eq!(image.indices.pixels, vec![0, 1, 2, 3, 1, 3, 2, 1, 0, 2]);
+        let palette = image.palette.unwrap();
+        assert_eq!(palette, vec![[255, 0, 0, 255], [0, 255, 0, 128], [0, 0, 255, 255], [9, 9, 9, 255]]);
+        let grey16 = s.path("g.png");
+        let mut encoder = png::Encoder::new(std::fs::File::create(&grey16).unwrap(), 1, 1);
+        encoder.set_color(png::ColorType::Grayscale);
+        encoder.set_depth(png::BitDepth::Sixteen);
+        encoder.write_header().unwrap().write_image_data(&[1, 2]).unwrap();
+        let err = load_indices(&grey16).err().unwrap().to_string();
+        assert!(err.contains("expected colour indices") && err.contains("g.png"), "{err}");
+    }
 }
