@@ -98,6 +98,7 @@ pub fn scene(args: &BumpArgs, table: BumpTable, texture: Option<FilteredTexture>
         mapping: Mapping::default(),
         formula: BumpFormula::Blinn,
         filter: FilterOptions { filter: Filter::Reconstruct(Kernel::Bilinear), ..FilterOptions::default() },
+        parallax: None,
     };
     let mut material = Material {
         color: Vec3::ONE,

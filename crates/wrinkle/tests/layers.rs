@@ -321,6 +321,18 @@ fn bad_layers_name_their_field() {
             "objects[0].material.alpha_cutoff: expected a number from 0 to 1",
         ),
         ("opacity = -1.0".into(), "objects[0].material.opacity: expected a number from 0 to 1"),
+        (
+            "[object.material.bump]\nprocedural = { pattern = \"fbm\" }\nparallax = { steps = 8 }".into(),
+            "objects[0].material.bump.parallax: marches a height table",
+        ),
+        (
+            "[object.material.bump]\ngenerator = { kind = \"grid\" }\nparallax = { depth_replace = true }".into(),
+            "objects[0].material.bump.parallax.depth_replace: not built yet",
+        ),
+        (
+            "[object.material.bump]\ngenerator = { kind = \"grid\" }\nparallax = { steps = 0 }".into(),
+            "objects[0].material.bump.parallax.steps",
+        ),
     ];
     for (material, want) in cases {
         let text = unlit(&quad(0.0, &material));
@@ -420,4 +432,69 @@ fn colour_index_textures_look_up_the_palette() {
         let err = Scene::parse(&text, &dir).err().unwrap_or_else(|| panic!("accepted: {material}")).to_string();
         assert!(err.contains(want), "{material}: {err}");
     }
+}
+
+/// Parallax occlusion mapping on a flat patch seen at 60 degrees: the (u,v) every lookup reads (the uv AOV
+/// of the colour texture) is where the pixel's ray meets the height field carved into the patch, within
+/// one step of the march, against the intersection found in f64 along the ray; without parallax, where the
+/// ray meets the patch.
+#[test]
+fn parallax_reads_where_the_ray_meets_the_height_field() {
+    let dir = scratch_dir("parallax");
+    let tau = std::f64::consts::TAU;
+    let field = |u: f64| 0.5 + 0.45 * (tau * 2.0 * u).sin();
+    let n = 1024;
+    let heights = wrinkle::image::GreyImage::from_fn(n, 4, |x, _| field((x as f64 + 0.5) / n as f64) as f32);
+    wrinkle::image::io::write_png_grey16(&dir.join("h.png"), &heights).unwrap();
+    texel_png(&dir, "c.png", [200, 200, 200], None);
+    let (h, steps) = (0.2, 32);
+    let angle = 60f64.to_radians();
+    let eye = [4.0 * angle.sin(), 0.0, 4.0 * angle.cos()];
+    let scene = |parallax: &str| {
+        format!(
+            "[camera]\neye = {}\nlook_at = [0.0, 0.0, 0.0]\nprojection = \"orthographic\"\nheight = 1.0\n\n\
+             [[light]]\ntype = \"ambient\"\n\n[[object]]\nshape = \"patch\"\n\
+             corners = [[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]]\n\
+             [object.material]\ntexture = \"c.png\"\n[object.material.bump]\nmap = \"h.png\"\nscale = {h:?}\n{parallax}\n",
+            common::arr(eye)
+        )
+    };
+    let size = 32;
+    let shifted = common::render_all_aovs(&scene(&format!("parallax = {{ steps = {steps} }}")), &dir, size, size, 1);
+    let flat = common::render_all_aovs(&scene(""), &dir, size, size, 1);
+    let camera = common::RefCamera::orthographic(eye, [0.0; 3], [0.0, 1.0, 0.0], 1.0, size, size);
+    // Along the ray, each unit of depth below the patch moves u by -tan(60) / 2 (u = (x + 1) / 2).
+    let du_per_depth = -angle.tan() / 2.0;
+    let one_step = du_per_depth.abs() * h / steps as f64;
+    let (mut worst, mut moved) = (0.0f64, 0.0f64);
+    for py in 0..size {
+        for px in 0..size {
+            let (o, d) = camera.pixel_ray(px, py);
+            let t = common::ray_plane(o, d, glam::DVec3::ZERO, glam::DVec3::Z).unwrap();
+            let u0 = (o.x + t * d.x + 1.0) / 2.0;
+            let uv_flat = flat.uv.as_ref().unwrap()[py * size + px];
+            assert!((uv_flat[0] as f64 - u0).abs() < 1e-4, "without parallax the ray meets the patch");
+            // The first depth where the ray is below the field: fine scan, then bisection.
+            let gap = |depth: f64| depth - h * (1.0 - field(u0 + du_per_depth * depth));
+            let mut lo = 0.0;
+            while gap(lo + 1e-4) < 0.0 {
+                lo += 1e-4;
+            }
+            let mut hi = lo + 1e-4;
+            for _ in 0..40 {
+                let mid = 0.5 * (lo + hi);
+                if gap(mid) < 0.0 {
+                    lo = mid
+                } else {
+                    hi = mid
+                }
+            }
+            let want = u0 + du_per_depth * lo;
+            let got = shifted.uv.as_ref().unwrap()[py * size + px][0] as f64;
+            worst = worst.max((got - want).abs());
+            moved = moved.max((want - u0).abs());
+        }
+    }
+    assert!(moved > 10.0 * one_step, "the relief moves the lookups: {moved}");
+    assert!(worst <= one_step, "parallax (u,v) off the ray-field intersection by {worst} (one step: {one_step})");
 }

@@ -35,6 +35,9 @@ pub struct BumpMap {
     /// How a table is filtered against aliasing (Blinn section 5): any texture filter; `nearest` and
     /// `bilinear` are Blinn's two FVALs on the full-resolution table.
     pub filter: FilterOptions,
+    /// Parallax occlusion mapping: every lookup of the material reads where the view ray meets the height
+    /// field carved into the surface.
+    pub parallax: Option<super::Parallax>,
 }
 
 /// Every bump filter by name: `none` (`None`: the full-resolution table, read as the bump says), `mip`
@@ -137,6 +140,7 @@ mod tests {
             mapping: Mapping::default(),
             formula: BumpFormula::Blinn,
             filter: FilterOptions::default(),
+            parallax: None,
         };
         let torus = Surface::Torus { major_radius: 1.0, minor_radius: 0.3 };
         let opts = FilterOptions::default();

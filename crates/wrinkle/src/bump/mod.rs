@@ -6,12 +6,14 @@ pub mod function;
 pub mod generators;
 pub mod integrate;
 pub mod normal_map;
+pub mod parallax;
 pub mod schlag;
 pub mod table;
 pub mod tangent_space;
 
 pub use blinn::BumpFormula;
 pub use function::{BumpMap, BumpSource};
+pub use parallax::Parallax;
 pub use table::{BumpTable, Interp};
 pub use tangent_space::TangentNormalMap;
 

@@ -9,7 +9,7 @@ use super::texture::{load_texture, parse_normal_map, parse_texture, Role};
 use super::{CameraDesc, Object, Scene};
 use crate::bump::function::filter_choices;
 use crate::bump::generators::{BrickParams, Generator, GridParams, RivetParams, TextParams};
-use crate::bump::{BumpFormula, BumpMap, BumpSource, BumpTable};
+use crate::bump::{BumpFormula, BumpMap, BumpSource, BumpTable, Parallax};
 use crate::geometry::{MeshPart, Shape, Surface, Transform};
 use crate::image::io;
 use crate::light::Light;
@@ -467,6 +467,7 @@ fn parse_bump(path: &str, v: &Value, base: &Path) -> Result<BumpMap> {
             "invariant",
             "formula",
             "filter",
+            "parallax",
         ],
     )?;
     // A table's image, the procedural pattern's fields, or an offset map's file.
@@ -518,13 +519,36 @@ fn parse_bump(path: &str, v: &Value, base: &Path) -> Result<BumpMap> {
             BumpSource::Offsets(Arc::new(texture))
         }
     };
+    let parallax = match f.get("parallax") {
+        Some(p) => {
+            if !matches!(source, BumpSource::Table(_)) {
+                return Err(Error::scene(f.at("parallax"), "marches a height table (map or generator) only"));
+            }
+            Some(parse_parallax(&f.at("parallax"), p)?)
+        }
+        None => None,
+    };
     Ok(BumpMap {
         source,
         scale: f.number_or("scale", 0.05)?,
         mapping: parse_mapping(&f.at("mapping"), f.get("mapping"), uv_transform(&f)?)?,
         formula,
         filter: FilterOptions { filter: bump_filter(&f)?, ..FilterOptions::default() },
+        parallax,
     })
+}
+
+/// `parallax = { steps = 32, depth_replace = false }`: the march of parallax occlusion mapping.
+fn parse_parallax(path: &str, v: &Value) -> Result<Parallax> {
+    let f = Fields::new(path, v, &["steps", "depth_replace"])?;
+    if f.boolean("depth_replace", false)? {
+        return Err(Error::scene(
+            f.at("depth_replace"),
+            "not built yet: parallax moves what the surface shows, its depth and visibility stay the surface's",
+        ));
+    }
+    let steps = f.integer_where("steps", 32, 1, Parallax::MAX_STEPS as usize)? as u32;
+    Ok(Parallax { steps })
 }
 
 /// A bump table's filter: `filter` names any texture filter, or `"none"` (the full-resolution table read

@@ -136,6 +136,7 @@ impl ObjMaterial {
                 mapping: Mapping::uv(*transform),
                 formula: BumpFormula::Blinn,
                 filter: FilterOptions { filter: Filter::Trilinear, ..FilterOptions::default() },
+                parallax: None,
             }),
             normal_map: self.normal_map.as_ref().map(|texture| TangentNormalMap {
                 texture: texture.clone(),

@@ -11,6 +11,7 @@ pub use material::{AlphaMode, Material};
 pub use phong::Phong;
 
 use crate::bump::blinn::{perturbed_normal8, perturbed_normal_sided8};
+use crate::bump::BumpMap;
 use crate::geometry::frame_lanes::Frame8;
 use crate::geometry::mesh_lanes::MeshFrame8;
 use crate::geometry::Instance;
@@ -114,12 +115,49 @@ impl ShadeContext<'_> {
         surface
     }
 
+    /// The lookup context of eight samples: at their (u,v), or where their view rays meet a
+    /// parallax-mapped bump's height field.
+    #[inline(always)]
+    fn lookup_context<'s>(
+        &self,
+        inst: &Instance,
+        material: &Material,
+        surface: &'s SurfaceLanes<'s>,
+        at: &SurfaceSamples8<'_>,
+    ) -> LookupContext8<'s> {
+        let ctx = LookupContext8 { surface, u: at.uv.0, v: at.uv.1, footprint: at.footprint };
+        match material.bump.as_ref().filter(|_| self.bump_enabled) {
+            Some(bump) if bump.parallax.is_some() => self.parallax(inst, bump, ctx),
+            _ => ctx,
+        }
+    }
+
+    /// `ctx` moved to where each view ray meets the bump's height field.
+    #[inline(never)]
+    fn parallax<'s>(&self, inst: &Instance, bump: &BumpMap, ctx: LookupContext8<'s>) -> LookupContext8<'s> {
+        let Some(parallax) = bump.parallax else { return ctx };
+        let to_eye = match self.ortho_to_eye {
+            Some(_) => V3::splat(inst.camera_to_object.transform_vector3(Vec3::Z)),
+            None => V3::splat(inst.camera_to_object.transform_point3(Vec3::ZERO)) - ctx.surface.p,
+        };
+        let (u, v) = parallax.trace8(bump, &ctx, to_eye, &self.bump_filter_of(bump));
+        LookupContext8 { u, v, ..ctx }
+    }
+
+    /// The filter of a bump: its own, or `--bump-filter`'s.
+    fn bump_filter_of(&self, bump: &BumpMap) -> FilterOptions {
+        match self.bump_filter {
+            Some(filter) => FilterOptions { filter, ..bump.filter },
+            None => bump.filter,
+        }
+    }
+
     /// The alpha of eight samples of one primitive: the material's opacity through the layers that write
     /// alpha (what the alpha test compares with the cutoff).
     pub fn alpha8(&self, inst: &Instance, at: &SurfaceSamples8<'_>) -> F8 {
         let material = &self.materials[inst.material];
         let surface = self.surface(inst, at);
-        let ctx = LookupContext8 { surface: &surface, u: at.uv.0, v: at.uv.1, footprint: at.footprint };
+        let ctx = self.lookup_context(inst, material, &surface, at);
         let mut alpha = F8::splat(material.opacity);
         for layer in material.layers.iter().filter(|l| l.writes_alpha()) {
             let texel = layer.source.eval8(&ctx);
@@ -139,14 +177,10 @@ impl ShadeContext<'_> {
         let frame = at.frame;
         let surface = self.surface(inst, at);
         let n_geo = surface.n;
-        let ctx = LookupContext8 { surface: &surface, u: at.uv.0, v: at.uv.1, footprint: at.footprint };
+        let ctx = self.lookup_context(inst, material, &surface, at);
         let n_obj = match (&material.bump, &material.normal_map, self.bump_enabled) {
             (Some(bump), _, true) => {
-                let filter = match self.bump_filter {
-                    Some(filter) => FilterOptions { filter, ..bump.filter },
-                    None => bump.filter,
-                };
-                let g = bump.eval8(&ctx, &filter);
+                let g = bump.eval8(&ctx, &self.bump_filter_of(bump));
                 match &at.mesh {
                     None => perturbed_normal8(frame, g, bump.formula),
                     Some(m) => perturbed_normal_sided8(frame.pu, frame.pv, g, bump.formula, m.side),
