@@ -74,7 +74,7 @@ impl Parallax {
             let rise = gap - prev_gap;
             let t = rise.cmp_gt(F8::ZERO).blend(-prev_gap / rise, F8::ONE);
             hit = crossed.blend(prev_depth + t * (depth - prev_depth), hit);
-            open = open & !crossed;
+            open &= !crossed;
             (prev_depth, prev_gap) = (depth, gap);
         }
         let hit = marching.blend(hit, F8::ZERO);
