@@ -326,8 +326,8 @@ fn bad_layers_name_their_field() {
             "objects[0].material.bump.parallax: marches a height table",
         ),
         (
-            "[object.material.bump]\ngenerator = { kind = \"grid\" }\nparallax = { depth_replace = true }".into(),
-            "objects[0].material.bump.parallax.depth_replace: not built yet",
+            "[object.material.bump]\ngenerator = { kind = \"grid\" }\nparallax = { depth_replace = 1 }".into(),
+            "objects[0].material.bump.parallax.depth_replace",
         ),
         (
             "[object.material.bump]\ngenerator = { kind = \"grid\" }\nparallax = { steps = 0 }".into(),
@@ -497,4 +497,51 @@ fn parallax_reads_where_the_ray_meets_the_height_field() {
     }
     assert!(moved > 10.0 * one_step, "the relief moves the lookups: {moved}");
     assert!(worst <= one_step, "parallax (u,v) off the ray-field intersection by {worst} (one step: {one_step})");
+}
+
+/// Depth replacement: a wall whose left half is carved 0.5 deep by its parallax height field, and a sphere
+/// of radius 0.5 pushed into it (its front 0.2 out of the wall). On the right, where the field reaches the
+/// wall, only the part of the sphere in front of the wall shows (a disc of radius 0.4); on the left the whole
+/// sphere shows in front of the carved floor, and the wall's depth there is the floor's. Without depth
+/// replacement the wall hides the sphere alike on both sides.
+#[test]
+fn depth_replace_lets_objects_show_in_the_carved_field() {
+    let dir = scratch_dir("depth-replace");
+    let field = wrinkle::image::GreyImage { width: 2, height: 1, pixels: vec![0.0, 1.0] };
+    wrinkle::image::io::write_png_grey8(&dir.join("step.png"), &field).unwrap();
+    let scene = |replace: bool| {
+        format!(
+            "[camera]\neye = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\nprojection = \"orthographic\"\nheight = 2.0\n\n\
+             [[light]]\ntype = \"ambient\"\n\n\
+             [[object]]\nshape = \"patch\"\ncorners = [[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]]\n\
+             [object.material.bump]\nmap = \"step.png\"\nscale = 0.5\ninterp = \"nearest\"\n\
+             parallax = {{ steps = 8, depth_replace = {replace} }}\n\n\
+             [[object]]\nshape = \"sphere\"\nradius = 0.5\ntransform = {{ translate = [0.0, 0.0, -0.3] }}\n"
+        )
+    };
+    let size = 64;
+    for replace in [true, false] {
+        let frame = common::render_all_aovs(&scene(replace), &dir, size, size, 1);
+        let (ids, depth) = (frame.id.as_ref().unwrap(), frame.depth.as_ref().unwrap());
+        let mut checked = 0;
+        for py in 0..size {
+            for px in 0..size {
+                let (x, y) = ((px as f64 + 0.5) / 32.0 - 1.0, 1.0 - (py as f64 + 0.5) / 32.0);
+                let rho = (x * x + y * y).sqrt();
+                let carved = x < 0.0 && replace;
+                let radius = if carved { 0.5 } else { 0.4 };
+                if (rho - radius).abs() < 0.03 || x.abs() < 0.03 || x.abs() > 0.97 {
+                    continue;
+                }
+                let sphere = ids[py * size + px] == 1.0;
+                assert_eq!(sphere, rho < radius, "replace {replace}: pixel ({px}, {py}) at rho {rho:.3}");
+                if !sphere {
+                    let want = if x < 0.0 && replace { 4.5 } else { 4.0 };
+                    assert!((depth[py * size + px] as f64 - want).abs() < 1e-4, "wall depth at ({px}, {py})");
+                }
+                checked += 1;
+            }
+        }
+        assert!(checked > size * size / 2);
+    }
 }

@@ -13,7 +13,7 @@ pub mod tangent_space;
 
 pub use blinn::BumpFormula;
 pub use function::{BumpMap, BumpSource};
-pub use parallax::Parallax;
+pub use parallax::{Crossing8, Parallax};
 pub use table::{BumpTable, Interp};
 pub use tangent_space::TangentNormalMap;
 

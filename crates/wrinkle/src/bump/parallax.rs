@@ -17,14 +17,25 @@ use crate::texture::{FilterOptions, LookupContext8};
 pub struct Parallax {
     /// The most equal steps from the surface down to the field's lowest point.
     pub steps: u32,
+    /// The sample's depth becomes the crossing's, in the visibility pass too (the course's "dot product
+    /// depth replace"): what pokes out of the carved field in front of the crossing shows.
+    pub depth_replace: bool,
+}
+
+/// Where eight view rays meet the field: the (u,v) to read, and how much farther along each ray than the
+/// surface (object units; 0 where a lane does not march).
+pub struct Crossing8 {
+    pub u: F8,
+    pub v: F8,
+    pub travel: F8,
 }
 
 impl Parallax {
     pub const MAX_STEPS: u32 = 256;
 
-    /// The (u,v) where each lane's view ray (`to_eye`: towards the eye, any length, object space) meets the
-    /// height field of `bump` below the surface of `ctx`. Seen edge-on or from below, the lane's own (u,v).
-    pub fn trace8(&self, bump: &BumpMap, ctx: &LookupContext8<'_>, to_eye: V3, filter: &FilterOptions) -> (F8, F8) {
+    /// Where each lane's view ray (`to_eye`: towards the eye, any length, object space) meets the height
+    /// field of `bump` below the surface of `ctx`. Seen edge-on or from below, the lane's own (u,v).
+    pub fn trace8(&self, bump: &BumpMap, ctx: &LookupContext8<'_>, to_eye: V3, filter: &FilterOptions) -> Crossing8 {
         let depth_of_field = bump.scale.abs();
         let s = ctx.surface;
         let n = s.n.normalize_or_zero();
@@ -38,7 +49,7 @@ impl Parallax {
         // Lanes seen from in front march; the others keep their (u,v) (a zero step).
         let marching = c.cmp_gt(F8::splat(1e-4)) & det.cmp_gt(F8::ZERO);
         if depth_of_field == 0.0 || marching.none() {
-            return (ctx.u, ctx.v);
+            return Crossing8 { u: ctx.u, v: ctx.v, travel: F8::ZERO };
         }
         // Each unit of depth along the ray moves (u,v) by -(a, b) / c.
         let k = marching.blend(-F8::ONE / (det * c), F8::ZERO);
@@ -78,6 +89,8 @@ impl Parallax {
             (prev_depth, prev_gap) = (depth, gap);
         }
         let hit = marching.blend(hit, F8::ZERO);
-        (ctx.u + du * hit, ctx.v + dv * hit)
+        // A depth below the surface is hit / c along the ray (v is unit).
+        let travel = marching.blend(hit / c, F8::ZERO);
+        Crossing8 { u: ctx.u + du * hit, v: ctx.v + dv * hit, travel }
     }
 }

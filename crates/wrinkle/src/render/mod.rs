@@ -8,7 +8,7 @@ pub use frame::{Aovs, Frame, Stats, NO_PRIMITIVE};
 use crate::geometry::mesh_lanes;
 use crate::geometry::tessellate::{grid, segments_for, Mesh};
 use crate::geometry::{Instance, Primitive, TriangleMesh};
-use crate::lanes::{F8, LANES};
+use crate::lanes::{F8, LANES, V3};
 use crate::light::Light;
 use crate::limits::Limit;
 use crate::procedural::hypertexture::Hypertexture;
@@ -155,6 +155,13 @@ pub fn render_with_progress(
         bump_filter: options.bump_filter,
     };
     let cutoffs: Vec<Option<f32>> = instances.iter().map(|i| scene.materials[i.material].alpha_cutoff()).collect();
+    let replacing: Vec<bool> = instances
+        .iter()
+        .map(|i| {
+            let bump = scene.materials[i.material].bump.as_ref();
+            options.bump && bump.and_then(|b| b.parallax).is_some_and(|p| p.depth_replace)
+        })
+        .collect();
     let mut frame = Frame::new(w, h, options.aovs, cam.background);
     let band_len = tile_size * w;
     let job = TileJob {
@@ -173,6 +180,8 @@ pub fn render_with_progress(
         lights: &scene.lights,
         cutoffs: &cutoffs,
         any_masked: cutoffs.iter().any(Option::is_some),
+        replacing: &replacing,
+        any_replacing: replacing.contains(&true),
     };
     let (bands_done, bands) = (AtomicUsize::new(0), bins.tiles_y);
     let band_aovs: Vec<frame::AovBand> = frame
@@ -185,6 +194,7 @@ pub fn render_with_progress(
                 shaded: Vec::new(),
                 candidates: Vec::new(),
                 refused: Vec::new(),
+                replaced: Vec::new(),
             },
             |scratch, (ty, color)| {
                 let mut aov = frame::AovBand::new(options.aovs, color.len());
@@ -337,6 +347,9 @@ struct TileJob<'a> {
     cutoffs: &'a [Option<f32>],
     /// Whether any surface is masked (else tiles skip the alpha test).
     any_masked: bool,
+    /// Per surface, whether its depth is a parallax crossing's (depth replacement).
+    replacing: &'a [bool],
+    any_replacing: bool,
 }
 
 impl TileJob<'_> {
@@ -366,8 +379,8 @@ impl TileJob<'_> {
             return;
         }
         scratch.vis.render_tile(self.bins, tile, (w, h), self.triangles, self.pattern);
-        if self.any_masked {
-            self.mask(scratch, tile);
+        if self.any_masked || self.any_replacing {
+            self.fix_visibility(scratch, tile);
         }
         let TileScratch { vis, shaded, .. } = scratch;
         // Shade every covered sample, eight of one surface at a time, into the tile's sample buffer.
@@ -494,57 +507,135 @@ impl TileJob<'_> {
         packet.len = 0;
     }
 
-    /// The alpha test of the tile's samples `candidates` whose surfaces are masked: those whose alpha is
-    /// below their material's cutoff are pushed onto `refused`.
-    fn alpha_test(&self, vis: &mut VisBuffer, candidates: &[usize], refused: &mut Vec<usize>) {
+    /// Calls `each` on packets of the samples `candidates` (less those in `skip`, a subsequence of them)
+    /// whose fragment's surface is `wanted`, eight of one surface at a time.
+    fn packets_of(
+        &self,
+        vis: &mut VisBuffer,
+        candidates: &[usize],
+        skip: &[usize],
+        wanted: impl Fn(usize) -> bool,
+        mut each: impl FnMut(&mut VisBuffer, &Packet),
+    ) {
         let mut packet = Packet::default();
-        let mut test = |vis: &mut VisBuffer, packet: &mut Packet| {
-            let cutoff = self.cutoffs[packet.surface as usize].expect("only masked surfaces are queued");
-            let alpha = self.with_samples(vis, packet, |inst, at| self.shade.alpha8(inst, at));
-            let alpha = alpha.as_array_ref();
-            refused.extend((0..packet.len).filter(|&i| alpha[i] < cutoff).map(|i| packet.samples[i]));
+        let mut flush = |vis: &mut VisBuffer, packet: &mut Packet| {
+            each(vis, packet);
             packet.len = 0;
         };
-        let spp = vis.spp;
+        let (spp, mut skipped) = (vis.spp, skip.iter().peekable());
         for &k in candidates {
+            if skipped.next_if_eq(&&k).is_some() {
+                continue;
+            }
             let t = vis.triangle[k];
-            if t == EMPTY {
+            if t == EMPTY || !wanted(self.triangles[t as usize].surface as usize) {
                 continue;
             }
             let surface = self.triangles[t as usize].surface;
-            if self.cutoffs[surface as usize].is_none() {
-                continue;
-            }
             if packet.len > 0 && packet.surface != surface {
-                test(vis, &mut packet);
+                flush(vis, &mut packet);
             }
             let (x, y) = ((k / spp) % vis.width, k / spp / vis.width);
             packet.push(surface, k, t, vis.sample_position(x, y, k % spp, self.pattern));
             if packet.len == LANES {
-                test(vis, &mut packet);
+                flush(vis, &mut packet);
             }
         }
         if packet.len > 0 {
-            test(vis, &mut packet);
+            flush(vis, &mut packet);
         }
     }
 
-    /// Removes what the alpha test refuses: tests the tile's samples on masked surfaces, peels the refused
-    /// ones back to the next fragment behind, and tests those again until every sample keeps its fragment.
-    fn mask(&self, scratch: &mut TileScratch, tile: (usize, usize)) {
-        let TileScratch { vis, candidates, refused, .. } = scratch;
+    /// The alpha test of the tile's samples `candidates` whose surfaces are masked: those whose alpha is
+    /// below their material's cutoff are pushed onto `refused`.
+    fn alpha_test(&self, vis: &mut VisBuffer, candidates: &[usize], refused: &mut Vec<usize>) {
+        self.packets_of(
+            vis,
+            candidates,
+            &[],
+            |s| self.cutoffs[s].is_some(),
+            |vis, packet| {
+                let cutoff = self.cutoffs[packet.surface as usize].expect("only masked surfaces are queued");
+                let alpha = self.with_samples(vis, packet, |inst, at| self.shade.alpha8(inst, at));
+                let alpha = alpha.as_array_ref();
+                refused.extend((0..packet.len).filter(|&i| alpha[i] < cutoff).map(|i| packet.samples[i]));
+            },
+        );
+    }
+
+    /// Where the samples `candidates` (less the `refused`) lie on surfaces that replace their depth by a
+    /// parallax crossing: each such fragment, its key, and the key of the crossing behind it.
+    fn replaced_depths(&self, vis: &mut VisBuffer, candidates: &[usize], refused: &[usize], out: &mut Vec<Replaced>) {
+        let ortho = !self.camera.is_perspective();
+        self.packets_of(
+            vis,
+            candidates,
+            refused,
+            |s| self.replacing[s],
+            |vis, packet| {
+                let found = self.with_samples(vis, packet, |inst, at| {
+                    let distance = V3::transform_point(&inst.object_to_camera, at.frame.p).length();
+                    self.shade.replaced_depth8(inst, at).map(|travel| (travel, distance))
+                });
+                let Some((travel, distance)) = found else { return };
+                let (travel, distance) = (travel.as_array_ref(), distance.as_array_ref());
+                for i in 0..packet.len {
+                    let k = packet.samples[i];
+                    let key = vis.depth[k];
+                    // Depth keys: camera z for orthographic views, 1/w (w in proportion to the distance along
+                    // the ray) for perspective ones.
+                    let behind = if ortho { key - travel[i] } else { key * distance[i] / (distance[i] + travel[i]) };
+                    if travel[i] > 0.0 {
+                        out.push(Replaced { sample: k, key, triangle: vis.triangle[k], behind });
+                    }
+                }
+            },
+        );
+    }
+
+    /// Fixes the tile's visibility where the surface is not the flat triangle: samples the alpha test
+    /// refuses are peeled back to the next fragment behind and tested again, until every sample keeps its
+    /// fragment; samples of depth-replacing parallax surfaces are peeled too, and keep what lies behind
+    /// only where it is in front of their crossing.
+    fn fix_visibility(&self, scratch: &mut TileScratch, tile: (usize, usize)) {
+        let TileScratch { vis, candidates, refused, replaced, .. } = scratch;
         candidates.clear();
         candidates.extend(0..vis.width * vis.height * vis.spp);
         loop {
             refused.clear();
+            replaced.clear();
+            // In order, so that what the alpha test refuses is a subsequence of the candidates.
+            candidates.sort_unstable();
             self.alpha_test(vis, candidates, refused);
-            if refused.is_empty() {
+            if self.any_replacing {
+                self.replaced_depths(vis, candidates, refused, replaced);
+            }
+            if refused.is_empty() && replaced.is_empty() {
                 return;
             }
+            refused.extend(replaced.iter().map(|r| r.sample));
             vis.peel(self.bins, tile, self.triangles, self.pattern, refused);
+            refused.truncate(refused.len() - replaced.len());
+            for r in replaced.iter() {
+                // Nothing in front of the crossing: the parallax surface keeps the sample, at the crossing.
+                if vis.triangle[r.sample] == EMPTY || vis.depth[r.sample] < r.behind {
+                    (vis.depth[r.sample], vis.triangle[r.sample]) = (r.key, r.triangle);
+                } else {
+                    refused.push(r.sample);
+                }
+            }
             std::mem::swap(candidates, refused);
         }
     }
+}
+
+/// A sample of a depth-replacing parallax surface: its fragment (depth key and triangle), and the key of
+/// its crossing behind it.
+struct Replaced {
+    sample: usize,
+    key: f32,
+    triangle: u32,
+    behind: f32,
 }
 
 /// One worker's buffers, reused from tile to tile: the visibility buffer, the shaded samples, and the
@@ -554,6 +645,7 @@ struct TileScratch {
     shaded: Vec<Shaded>,
     candidates: Vec<usize>,
     refused: Vec<usize>,
+    replaced: Vec<Replaced>,
 }
 
 /// Up to eight covered samples of one surface, waiting to be shaded together.

@@ -541,14 +541,8 @@ fn parse_bump(path: &str, v: &Value, base: &Path) -> Result<BumpMap> {
 /// `parallax = { steps = 32, depth_replace = false }`: the march of parallax occlusion mapping.
 fn parse_parallax(path: &str, v: &Value) -> Result<Parallax> {
     let f = Fields::new(path, v, &["steps", "depth_replace"])?;
-    if f.boolean("depth_replace", false)? {
-        return Err(Error::scene(
-            f.at("depth_replace"),
-            "not built yet: parallax moves what the surface shows, its depth and visibility stay the surface's",
-        ));
-    }
     let steps = f.integer_where("steps", 32, 1, Parallax::MAX_STEPS as usize)? as u32;
-    Ok(Parallax { steps })
+    Ok(Parallax { steps, depth_replace: f.boolean("depth_replace", false)? })
 }
 
 /// A bump table's filter: `filter` names any texture filter, or `"none"` (the full-resolution table read

@@ -116,7 +116,7 @@ impl ShadeContext<'_> {
     }
 
     /// The lookup context of eight samples: at their (u,v), or where their view rays meet a
-    /// parallax-mapped bump's height field.
+    /// parallax-mapped bump's height field; and how much farther along the rays that is.
     #[inline(always)]
     fn lookup_context<'s>(
         &self,
@@ -124,24 +124,42 @@ impl ShadeContext<'_> {
         material: &Material,
         surface: &'s SurfaceLanes<'s>,
         at: &SurfaceSamples8<'_>,
-    ) -> LookupContext8<'s> {
+    ) -> (LookupContext8<'s>, Option<F8>) {
         let ctx = LookupContext8 { surface, u: at.uv.0, v: at.uv.1, footprint: at.footprint };
         match material.bump.as_ref().filter(|_| self.bump_enabled) {
             Some(bump) if bump.parallax.is_some() => self.parallax(inst, bump, ctx),
-            _ => ctx,
+            _ => (ctx, None),
         }
     }
 
-    /// `ctx` moved to where each view ray meets the bump's height field.
+    /// `ctx` moved to where each view ray meets the bump's height field, and the travel there (world units).
     #[inline(never)]
-    fn parallax<'s>(&self, inst: &Instance, bump: &BumpMap, ctx: LookupContext8<'s>) -> LookupContext8<'s> {
-        let Some(parallax) = bump.parallax else { return ctx };
+    fn parallax<'s>(
+        &self,
+        inst: &Instance,
+        bump: &BumpMap,
+        ctx: LookupContext8<'s>,
+    ) -> (LookupContext8<'s>, Option<F8>) {
+        let Some(parallax) = bump.parallax else { return (ctx, None) };
         let to_eye = match self.ortho_to_eye {
             Some(_) => V3::splat(inst.camera_to_object.transform_vector3(Vec3::Z)),
             None => V3::splat(inst.camera_to_object.transform_point3(Vec3::ZERO)) - ctx.surface.p,
         };
-        let (u, v) = parallax.trace8(bump, &ctx, to_eye, &self.bump_filter_of(bump));
-        LookupContext8 { u, v, ..ctx }
+        let crossing = parallax.trace8(bump, &ctx, to_eye, &self.bump_filter_of(bump));
+        // The travel in world units: the object's transform may scale.
+        let stretch = V3::transform_vector(&inst.object_to_world, to_eye.normalize_or_zero()).length();
+        (LookupContext8 { u: crossing.u, v: crossing.v, ..ctx }, Some(crossing.travel * stretch))
+    }
+
+    /// Where a parallax-mapped surface with depth replacement is seen at eight samples: how much farther
+    /// along each ray than the surface (world units), else `None`.
+    pub fn replaced_depth8(&self, inst: &Instance, at: &SurfaceSamples8<'_>) -> Option<F8> {
+        let material = &self.materials[inst.material];
+        if !material.bump.as_ref().and_then(|b| b.parallax).is_some_and(|p| p.depth_replace) {
+            return None;
+        }
+        let surface = self.surface(inst, at);
+        self.lookup_context(inst, material, &surface, at).1
     }
 
     /// The filter of a bump: its own, or `--bump-filter`'s.
@@ -157,7 +175,7 @@ impl ShadeContext<'_> {
     pub fn alpha8(&self, inst: &Instance, at: &SurfaceSamples8<'_>) -> F8 {
         let material = &self.materials[inst.material];
         let surface = self.surface(inst, at);
-        let ctx = self.lookup_context(inst, material, &surface, at);
+        let (ctx, _) = self.lookup_context(inst, material, &surface, at);
         let mut alpha = F8::splat(material.opacity);
         for layer in material.layers.iter().filter(|l| l.writes_alpha()) {
             let texel = layer.source.eval8(&ctx);
@@ -177,7 +195,7 @@ impl ShadeContext<'_> {
         let frame = at.frame;
         let surface = self.surface(inst, at);
         let n_geo = surface.n;
-        let ctx = self.lookup_context(inst, material, &surface, at);
+        let (ctx, travel) = self.lookup_context(inst, material, &surface, at);
         let n_obj = match (&material.bump, &material.normal_map, self.bump_enabled) {
             (Some(bump), _, true) => {
                 let g = bump.eval8(&ctx, &self.bump_filter_of(bump));
@@ -202,6 +220,11 @@ impl ShadeContext<'_> {
                 let to_eye = V3::splat(self.eye) - position;
                 (to_eye, to_eye.length())
             }
+        };
+        // Depth replacement: the sample lies where its ray meets the parallax field.
+        let depth = match (travel, material.bump.as_ref().and_then(|b| b.parallax)) {
+            (Some(travel), Some(p)) if p.depth_replace => depth + travel,
+            _ => depth,
         };
         let v = to_eye.normalize_or_zero();
         let mut n = V3::mul_mat3(&inst.normal_matrix, n_obj).normalize_or_zero();
