@@ -72,7 +72,7 @@ impl BumpMap {
 
     /// F, Fu, Fv on eight lanes: a table through the surface's (u,v) on the lanes, anything else lane by
     /// lane.
-    #[inline]
+    #[inline(always)]
     pub fn eval8(&self, ctx: &LookupContext8<'_>, filter: &FilterOptions) -> [F8; 3] {
         let (BumpSource::Table(table), Some(jacobian)) = (&self.source, self.mapping.constant_jacobian()) else {
             let g: [Gradient; 8] = std::array::from_fn(|i| self.eval(&ctx.lane(i), filter));

@@ -596,7 +596,9 @@ impl TileJob<'_> {
     /// Fixes the tile's visibility where the surface is not the flat triangle: samples the alpha test
     /// refuses are peeled back to the next fragment behind and tested again, until every sample keeps its
     /// fragment; samples of depth-replacing parallax surfaces are peeled too, and keep what lies behind
-    /// only where it is in front of their crossing.
+    /// only where it is in front of their crossing. Out of line: most frames never call it, and the tile
+    /// loop keeps its registers.
+    #[inline(never)]
     fn fix_visibility(&self, scratch: &mut TileScratch, tile: (usize, usize)) {
         let TileScratch { vis, candidates, refused, replaced, .. } = scratch;
         candidates.clear();
