@@ -21,6 +21,16 @@ pub fn linear_to_srgb(c: f32) -> f32 {
     }
 }
 
+/// 8-bit RGBA texels in linear RGBA: colour decoded from sRGB with `srgb` (else value / 255), alpha
+/// never decoded.
+pub fn decode_rgba8(texels: &[[u8; 4]], srgb: bool) -> Vec<[f32; 4]> {
+    let table = if srgb { srgb8_decode_table() } else { std::array::from_fn(|i| i as f32 / 255.0) };
+    texels
+        .iter()
+        .map(|p| [table[p[0] as usize], table[p[1] as usize], table[p[2] as usize], p[3] as f32 / 255.0])
+        .collect()
+}
+
 /// Decoding table for 8-bit sRGB texels: index by the byte, get linear light.
 pub fn srgb8_decode_table() -> [f32; 256] {
     let mut t = [0.0; 256];

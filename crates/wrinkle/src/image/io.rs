@@ -146,14 +146,7 @@ pub fn load_rgba_linear(path: &Path, srgb: bool) -> Result<Image<[f32; 4]>> {
     Ok(match load_texels(path, srgb)? {
         Texels::Linear(image) => image,
         Texels::Rgba8(image) => {
-            let table =
-                if srgb { super::color::srgb8_decode_table() } else { std::array::from_fn(|i| i as f32 / 255.0) };
-            let pixels = image
-                .pixels
-                .iter()
-                .map(|p| [table[p[0] as usize], table[p[1] as usize], table[p[2] as usize], p[3] as f32 / 255.0])
-                .collect();
-            Image { width: image.width, height: image.height, pixels }
+            Image { width: image.width, height: image.height, pixels: super::color::decode_rgba8(&image.pixels, srgb) }
         }
     })
 }

@@ -7,7 +7,7 @@ use super::load::{resolve, uv_transform};
 use super::mapping::parse_mapping;
 use crate::bump::normal_map::Convention;
 use crate::bump::TangentNormalMap;
-use crate::image::color::srgb8_decode_table;
+use crate::image::color::decode_rgba8;
 use crate::image::{indexed, io};
 use crate::limits;
 use crate::mapping::{MappedTexture, Mapping};
@@ -163,13 +163,7 @@ fn colour_table(
     options: &TextureOptions,
     mapping: &Mapping,
 ) -> Result<Option<Source>> {
-    let decode = |entries: &[[u8; 4]]| -> Vec<Vec4> {
-        let table = if srgb { srgb8_decode_table() } else { std::array::from_fn(|i| i as f32 / 255.0) };
-        entries
-            .iter()
-            .map(|c| Vec4::new(table[c[0] as usize], table[c[1] as usize], table[c[2] as usize], c[3] as f32 / 255.0))
-            .collect()
-    };
+    let decode = |entries: &[[u8; 4]]| decode_rgba8(entries, srgb).into_iter().map(Vec4::from).collect();
     let opaque = |entries: &[[u8; 4]]| entries.iter().all(|c| c[3] == 255);
     let indexed = f.boolean("indexed", false)? || f.get("palette").is_some();
     let (texture, rgba): (Arc<dyn Texture>, bool) = match (indexed, f.get("lut")) {
