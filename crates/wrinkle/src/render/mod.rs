@@ -155,13 +155,8 @@ pub fn render_with_progress(
         bump_filter: options.bump_filter,
     };
     let cutoffs: Vec<Option<f32>> = instances.iter().map(|i| scene.materials[i.material].alpha_cutoff()).collect();
-    let replacing: Vec<bool> = instances
-        .iter()
-        .map(|i| {
-            let bump = scene.materials[i.material].bump.as_ref();
-            options.bump && bump.and_then(|b| b.parallax).is_some_and(|p| p.depth_replace)
-        })
-        .collect();
+    let replacing: Vec<bool> =
+        instances.iter().map(|i| options.bump && scene.materials[i.material].replaces_depth()).collect();
     let mut frame = Frame::new(w, h, options.aovs, cam.background);
     let band_len = tile_size * w;
     let job = TileJob {

@@ -368,18 +368,13 @@ fn material(m: &gltf::Material, textures: &mut Textures) -> std::result::Result<
     if let Some(info) = pbr.base_color_texture() {
         let transform = info.texture_transform().map(TextureTransform::of_info);
         let source = textures.get(info.texture(), info.tex_coord(), transform, true)?;
-        layers.push(Layer::modulate_kd(source.mapped, source.rgba));
+        layers.push(Layer::modulate(source.mapped, Target::Kd, source.rgba));
     }
     // Emission: emissiveFactor x emissiveTexture (sRGB, its alpha unused) x KHR_materials_emissive_strength.
     if let Some(info) = m.emissive_texture() {
         let transform = info.texture_transform().map(TextureTransform::of_info);
         let source = textures.get(info.texture(), info.tex_coord(), transform, true)?;
-        layers.push(Layer {
-            source: source.mapped,
-            target: Target::Emission,
-            mode: crate::shade::Mode::Modulate,
-            rgba: false,
-        });
+        layers.push(Layer::modulate(source.mapped, Target::Emission, false));
     }
     let strength = match m.extension_value("KHR_materials_emissive_strength") {
         None => 1.0,

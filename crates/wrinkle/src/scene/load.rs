@@ -17,7 +17,7 @@ use crate::mapping::polygon::QuadMapping;
 use crate::mapping::{Projection as MapProjection, UvTransform};
 use crate::procedural::solid::Space;
 use crate::raster::Projection;
-use crate::shade::{AlphaMode, Layer, Material, Mode, Phong, Target};
+use crate::shade::{AlphaMode, Layer, Material, Phong, Target};
 use crate::texture::reconstruct::Kernel;
 use crate::texture::{Filter, FilterOptions, TextureOptions};
 use crate::{Error, Result};
@@ -384,12 +384,7 @@ fn parse_material(path: &str, v: &Value, base: &Path, under: Material) -> Result
     if let Some(t) = f.get("specular_map") {
         let source = parse_texture(&f.at("specular_map"), t, &f, base, Role::Data)?;
         material.layers.retain(|l| l.target != Target::Ks);
-        material.layers.push(Layer {
-            source: source.mapped,
-            target: Target::Ks,
-            mode: Mode::Modulate,
-            rgba: source.rgba,
-        });
+        material.layers.push(Layer::modulate(source.mapped, Target::Ks, source.rgba));
     }
     material.layers.extend(parse_layers(&f, base)?);
     match (f.get("bump"), f.get("normal_map")) {

@@ -11,7 +11,7 @@ use crate::bump::{BumpFormula, BumpMap, BumpSource, BumpTable, TangentNormalMap}
 use crate::geometry::TriangleMesh;
 use crate::image::io;
 use crate::mapping::{MappedTexture, Mapping, UvTransform};
-use crate::shade::{AlphaMode, Layer, Material, Mode, Phong, Target};
+use crate::shade::{AlphaMode, Layer, Material, Phong, Target};
 use crate::texture::{Filter, FilterOptions, TextureOptions, Wrap};
 use crate::{Error, Result};
 use glam::{Vec2, Vec3};
@@ -168,7 +168,7 @@ fn material(m: &tobj::Material, dir: &Path) -> Result<ObjMaterial> {
         (&m.unknown_param.get("map_Ke").cloned(), Target::Emission, true),
     ] {
         if let Some((source, rgba)) = map(spec, srgb)? {
-            layers.push(Layer { source, target, mode: Mode::Modulate, rgba });
+            layers.push(Layer::modulate(source, target, rgba));
         }
     }
     let bump = match &m.normal_texture {

@@ -120,9 +120,10 @@ pub struct Layer {
 }
 
 impl Layer {
-    /// Today's one-texture form: the colour texture modulating the diffuse colour.
-    pub fn modulate_kd(source: MappedTexture, rgba: bool) -> Layer {
-        Layer { source, target: Target::Kd, mode: Mode::Modulate, rgba }
+    /// A texture modulating `target`: today's one-texture forms (`texture` on kd, `specular_map` on ks) and
+    /// the maps of model files.
+    pub fn modulate(source: MappedTexture, target: Target, rgba: bool) -> Layer {
+        Layer { source, target, mode: Mode::Modulate, rgba }
     }
 
     /// A scalar target's texel: the mean of R, G, B, or an RGBA texture's alpha on `opacity`; clamped to

@@ -61,7 +61,7 @@ impl Material {
     /// it replaces every layer on Kd.
     pub fn set_colour_texture(&mut self, texture: MappedTexture, rgba: bool) {
         self.layers.retain(|l| l.target != Target::Kd);
-        self.layers.insert(0, Layer::modulate_kd(texture, rgba));
+        self.layers.insert(0, Layer::modulate(texture, Target::Kd, rgba));
     }
 
     /// Whether the highlight's cutoff, worked out for the material's own specular and exponent, holds for
@@ -78,6 +78,11 @@ impl Material {
     /// Whether the material emits (a colour or a layer on emission).
     pub fn emits(&self) -> bool {
         self.emission != Vec3::ZERO || self.layers.iter().any(|l| l.target == Target::Emission)
+    }
+
+    /// Whether the bump is parallax-mapped with depth replacement: the sample lies at the crossing.
+    pub fn replaces_depth(&self) -> bool {
+        self.bump.as_ref().and_then(|b| b.parallax).is_some_and(|p| p.depth_replace)
     }
 
     /// Whether alpha removes samples in the visibility pass, and below which value.

@@ -155,7 +155,7 @@ impl ShadeContext<'_> {
     /// along each ray than the surface (world units), else `None`.
     pub fn replaced_depth8(&self, inst: &Instance, at: &SurfaceSamples8<'_>) -> Option<F8> {
         let material = &self.materials[inst.material];
-        if !material.bump.as_ref().and_then(|b| b.parallax).is_some_and(|p| p.depth_replace) {
+        if !material.replaces_depth() {
             return None;
         }
         let surface = self.surface(inst, at);
@@ -222,8 +222,8 @@ impl ShadeContext<'_> {
             }
         };
         // Depth replacement: the sample lies where its ray meets the parallax field.
-        let depth = match (travel, material.bump.as_ref().and_then(|b| b.parallax)) {
-            (Some(travel), Some(p)) if p.depth_replace => depth + travel,
+        let depth = match travel {
+            Some(travel) if material.replaces_depth() => depth + travel,
             _ => depth,
         };
         let v = to_eye.normalize_or_zero();
