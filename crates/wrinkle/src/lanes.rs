@@ -15,6 +15,12 @@ pub fn lane_index() -> F8 {
     F8::new(std::array::from_fn(|l| l as f32))
 }
 
+/// The mask of the lanes whose bits are set in `bits` (bit i: lane i), for `blend` and `V3::select`.
+#[inline]
+pub fn mask_of(bits: u8) -> F8 {
+    F8::new(std::array::from_fn(|i| if bits >> i & 1 == 1 { f32::from_bits(u32::MAX) } else { 0.0 }))
+}
+
 /// `values[index]` per lane. An index outside the slice reads its nearest end instead, never memory outside.
 #[inline]
 pub fn gather(values: &[f32], index: I8) -> F8 {

@@ -51,6 +51,20 @@ impl Frame8 {
         self.pvv.set_lane(i, f.pvv);
     }
 
+    /// Lane by lane, `t` where `mask` is set and `f` elsewhere.
+    #[inline]
+    pub fn select(mask: F8, t: &Frame8, f: &Frame8) -> Frame8 {
+        let pick = |a: V3, b: V3| V3::select(mask, a, b);
+        Frame8 {
+            p: pick(t.p, f.p),
+            pu: pick(t.pu, f.pu),
+            pv: pick(t.pv, f.pv),
+            puu: pick(t.puu, f.puu),
+            puv: pick(t.puv, f.puv),
+            pvv: pick(t.pvv, f.pvv),
+        }
+    }
+
     /// SurfaceFrame::advanced on every lane.
     #[inline]
     pub fn advanced(&self, du: F8, dv: F8) -> Frame8 {

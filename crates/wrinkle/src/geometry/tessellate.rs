@@ -13,6 +13,8 @@ use glam::{Vec2, Vec3};
 pub struct Mesh {
     /// Grid segments along u and v.
     pub segments: (usize, usize),
+    /// Whether the grid closes on itself along u and along v (the surface's `wraps`).
+    pub wraps: (bool, bool),
     pub positions: Vec<Vec3>,
     pub uvs: Vec<Vec2>,
     pub triangles: Vec<[u32; 3]>,
@@ -25,7 +27,7 @@ pub const MAX_SEGMENTS: usize = 1024;
 pub fn grid(surface: &Surface, nu: usize, nv: usize) -> Mesh {
     let (wrap_u, wrap_v) = surface.wraps();
     let (nu, nv) = (nu.max(1), nv.max(1));
-    let mut mesh = Mesh { segments: (nu, nv), ..Mesh::default() };
+    let mut mesh = Mesh { segments: (nu, nv), wraps: (wrap_u, wrap_v), ..Mesh::default() };
     let columns = nu + 1;
     for j in 0..=nv {
         for i in 0..=nu {
@@ -48,6 +50,26 @@ pub fn grid(surface: &Surface, nu: usize, nv: usize) -> Mesh {
         }
     }
     mesh
+}
+
+impl Mesh {
+    /// The triangles across the edges of triangle `t`, in the order of its corners (a-b, b-c, c-a), where
+    /// there is one: across a wrapping seam too, none along an open edge of the grid. Quad (i, j) holds
+    /// [a, b, c] and [a, c, d], with a = (i, j), b = (i+1, j), c = (i+1, j+1), d = (i, j+1).
+    pub fn neighbours(&self, t: usize) -> [Option<usize>; 3] {
+        let (nu, nv) = self.segments;
+        let (q, (wrap_u, wrap_v)) = (t / 2, self.wraps);
+        let (i, j) = (q % nu, q / nu);
+        let left = if i > 0 { Some(q - 1) } else { wrap_u.then(|| q + nu - 1) };
+        let right = if i + 1 < nu { Some(q + 1) } else { wrap_u.then(|| q + 1 - nu) };
+        let below = if j > 0 { Some(q - nu) } else { wrap_v.then(|| q + nu * (nv - 1)) };
+        let above = if j + 1 < nv { Some(q + nu) } else { wrap_v.then(|| q - nu * (nv - 1)) };
+        if t % 2 == 0 {
+            [below.map(|q| 2 * q + 1), right.map(|q| 2 * q + 1), Some(t + 1)]
+        } else {
+            [Some(t - 1), above.map(|q| 2 * q), left.map(|q| 2 * q)]
+        }
+    }
 }
 
 /// The surface as a model's triangle mesh: the grid of `nu` x `nv` quads with its (u,v) and the exact
@@ -142,6 +164,35 @@ mod tests {
             assert_eq!(m.positions[6 * cols + i], m.positions[6 * cols]);
         }
         assert_eq!(m.triangles.len(), 12 * 6 * 2);
+    }
+
+    /// Each neighbour shares an edge (two vertex positions) with the triangle, and names it back.
+    #[test]
+    fn neighbours_share_edges() {
+        for (surface, open) in [
+            (Surface::Torus { major_radius: 1.0, minor_radius: 0.3 }, 0),
+            (Surface::Cylinder { radius: 1.0, height: 1.0 }, 2 * 7),
+        ] {
+            let m = grid(&surface, 7, 5);
+            let mut missing = 0;
+            for t in 0..m.triangles.len() {
+                for n in m.neighbours(t) {
+                    let Some(n) = n else {
+                        missing += 1;
+                        continue;
+                    };
+                    let shared = m.triangles[t]
+                        .iter()
+                        .filter(|&&a| {
+                            m.triangles[n].iter().any(|&b| m.positions[a as usize] == m.positions[b as usize])
+                        })
+                        .count();
+                    assert_eq!(shared, 2, "{surface:?}: {t} and {n}");
+                    assert!(m.neighbours(n).contains(&Some(t)));
+                }
+            }
+            assert_eq!(missing, open, "{surface:?}");
+        }
     }
 
     #[test]

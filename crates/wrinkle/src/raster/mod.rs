@@ -3,6 +3,7 @@
 
 pub mod camera;
 pub mod clip;
+pub mod exact;
 pub mod refine;
 pub mod samples;
 pub mod setup;

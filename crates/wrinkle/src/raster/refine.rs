@@ -27,15 +27,8 @@ pub fn refine_uv8(
 ) -> ((F8, F8), Frame8) {
     let (u, v) = uv;
     let frame = surface.frame8(u, v);
-    let p = V3::transform_point(object_to_camera, frame.p);
-    let (sx, sy) = project8(camera, p);
-    let su = project_derivative8(camera, p, V3::transform_vector(object_to_camera, frame.pu));
-    let sv = project_derivative8(camera, p, V3::transform_vector(object_to_camera, frame.pv));
-    let (rx, ry) = (screen.0 - sx, screen.1 - sy);
-    let det = su.0 * sv.1 - su.1 * sv.0;
-    let inv_det = F8::ONE / det;
-    let step_u = (rx * sv.1 - ry * sv.0) * inv_det;
-    let step_v = (su.0 * ry - su.1 * rx) * inv_det;
+    let at = OnScreen8::of(camera, object_to_camera, &frame);
+    let (det, (step_u, step_v)) = (at.det(), at.step_to(screen));
     let max = (F8::splat(max_step.x), F8::splat(max_step.y));
     let taken = F8::splat(1e-12).cmp_lt(det.abs())
         & step_u.is_finite()
@@ -61,6 +54,48 @@ pub fn refine_uv8(
         }
     }
     (refined, out)
+}
+
+/// Where eight surface points land on the screen, and how their screen positions change with u and v.
+#[derive(Clone, Copy)]
+pub struct OnScreen8 {
+    pub x: F8,
+    pub y: F8,
+    /// d(x, y)/du and d(x, y)/dv.
+    pub su: (F8, F8),
+    pub sv: (F8, F8),
+}
+
+impl OnScreen8 {
+    #[inline(always)]
+    pub fn of(camera: &Camera, object_to_camera: &Affine3A, frame: &Frame8) -> OnScreen8 {
+        let p = V3::transform_point(object_to_camera, frame.p);
+        let (x, y) = project8(camera, p);
+        let su = project_derivative8(camera, p, V3::transform_vector(object_to_camera, frame.pu));
+        let sv = project_derivative8(camera, p, V3::transform_vector(object_to_camera, frame.pv));
+        OnScreen8 { x, y, su, sv }
+    }
+
+    /// The determinant of the Jacobian d(x, y)/d(u, v).
+    #[inline(always)]
+    pub fn det(&self) -> F8 {
+        self.su.0 * self.sv.1 - self.su.1 * self.sv.0
+    }
+
+    /// The Newton step (du, dv) that moves the points onto the screen positions `to`.
+    #[inline(always)]
+    pub fn step_to(&self, to: (F8, F8)) -> (F8, F8) {
+        let (rx, ry) = (to.0 - self.x, to.1 - self.y);
+        let inv_det = F8::ONE / self.det();
+        ((rx * self.sv.1 - ry * self.sv.0) * inv_det, (self.su.0 * ry - self.su.1 * rx) * inv_det)
+    }
+
+    /// du/dx, dv/dx, du/dy, dv/dy: the inverse of the Jacobian, the (u,v) footprint of one pixel.
+    #[inline]
+    pub fn uv_derivatives(&self) -> [F8; 4] {
+        let inv_det = F8::ONE / self.det();
+        [self.sv.1 * inv_det, -self.su.1 * inv_det, -self.sv.0 * inv_det, self.su.0 * inv_det]
+    }
 }
 
 /// Screen positions of eight camera-space points (Camera::project on every lane).

@@ -3,6 +3,7 @@
 
 use super::camera::Camera;
 use super::clip::{clip_planes, clip_polygon, inside_all, ClipVertex};
+use super::exact::OUTLINE_MARGIN_PX;
 use super::SUBPIXEL;
 use crate::lanes::{F8, LANES};
 use glam::{Affine3A, Vec2, Vec3, Vec4};
@@ -75,6 +76,9 @@ pub struct ScreenTriangle {
     pub surface: u32,
     /// The index within its object of the triangle it was set up from (clipped pieces share it).
     pub triangle: u32,
+    /// Lies along a curved surface's outline: widened by `exact::OUTLINE_MARGIN_PX`, and each sample it
+    /// covers is tested against the exact surface (raster/exact.rs).
+    pub outline: bool,
 }
 
 /// Which surface a triangle belongs to, and its number within its object.
@@ -82,6 +86,7 @@ pub struct ScreenTriangle {
 struct TriangleId {
     surface: u32,
     triangle: u32,
+    outline: bool,
 }
 
 /// Everything interpolated at eight screen positions (x, y), lane i on triangle `tris[i]`: perspective-correct
@@ -179,7 +184,8 @@ impl<'a> TriangleSetup<'a> {
     }
 
     /// Adds the triangles of a projected mesh, all of surface `surface`, the first of them numbered `first`
-    /// within its object. `cull` says which triangles to drop by the way they face.
+    /// within its object. `cull` says which triangles to drop by the way they face; `outline`, where given,
+    /// which lie along the surface's outline (one flag per triangle).
     pub fn add_triangles(
         &mut self,
         vertices: &[ProjectedVertex],
@@ -187,10 +193,12 @@ impl<'a> TriangleSetup<'a> {
         surface: u32,
         first: u32,
         cull: Cull,
+        outline: Option<&[bool]>,
     ) {
         self.triangles.reserve(triangles.len());
         for (k, t) in triangles.iter().enumerate() {
-            let id = TriangleId { surface, triangle: first + k as u32 };
+            let outline = outline.is_some_and(|o| o[k]);
+            let id = TriangleId { surface, triangle: first + k as u32, outline };
             let tri = t.map(|k| vertices[k as usize]);
             if tri.iter().all(|v| v.inside) {
                 self.add_triangle(&tri, id, cull);
@@ -234,12 +242,20 @@ impl<'a> TriangleSetup<'a> {
             // Fill rule: a sample exactly on an edge belongs to the triangle for which (A, B) points "right or
             // down"; the neighbour across the edge has (-A, -B), so exactly one of the two owns it.
             bias[e] = if ca > 0 || (ca == 0 && cb > 0) { 0 } else { -1 };
+            if id.outline {
+                // Each edge moved out by the margin: E is the distance in subpixels times |(A, B)|.
+                let margin = OUTLINE_MARGIN_PX as f64 * SUBPIXEL as f64 * ((ca * ca + cb * cb) as f64).sqrt();
+                edges[e][2] += margin.ceil() as i64;
+            }
         }
+        // Moved edges meet beyond the corners (far beyond at sharp ones); the box keeps what lies within the
+        // margin of the triangle, which is all the outline needs.
+        let pad = if id.outline { OUTLINE_MARGIN_PX.ceil() as i64 * SUBPIXEL } else { 0 };
         let (w, h) = (cam.width as i64, cam.height as i64);
-        let minx = fx.iter().map(|p| p[0]).min().unwrap_or(0).div_euclid(SUBPIXEL).max(0);
-        let maxx = fx.iter().map(|p| p[0]).max().unwrap_or(0).div_euclid(SUBPIXEL).min(w - 1);
-        let miny = fx.iter().map(|p| p[1]).min().unwrap_or(0).div_euclid(SUBPIXEL).max(0);
-        let maxy = fx.iter().map(|p| p[1]).max().unwrap_or(0).div_euclid(SUBPIXEL).min(h - 1);
+        let minx = (fx.iter().map(|p| p[0]).min().unwrap_or(0) - pad).div_euclid(SUBPIXEL).max(0);
+        let maxx = (fx.iter().map(|p| p[0]).max().unwrap_or(0) + pad).div_euclid(SUBPIXEL).min(w - 1);
+        let miny = (fx.iter().map(|p| p[1]).min().unwrap_or(0) - pad).div_euclid(SUBPIXEL).max(0);
+        let maxy = (fx.iter().map(|p| p[1]).max().unwrap_or(0) + pad).div_euclid(SUBPIXEL).min(h - 1);
         if minx > maxx || miny > maxy {
             return;
         }
@@ -260,6 +276,7 @@ impl<'a> TriangleSetup<'a> {
             uv: order.map(|k| tri[k].clip.uv),
             surface: id.surface,
             triangle: id.triangle,
+            outline: id.outline,
         });
     }
 }

@@ -50,10 +50,15 @@ pub struct VisBuffer {
     /// renderer itself.
     pub object: Vec<u32>,
     pub bary: Vec<[f32; 2]>,
+    /// Whether a triangle along a curved surface's outline reaches the tile (its samples then get the
+    /// exact test).
+    pub outline: bool,
     /// The alpha test's depth peeling: per sample, the fragment (depth key, triangle) it refused, and
     /// whether the sample is open to the fragments behind it. Sized on first use.
     refused: Vec<(f32, u32)>,
     reopened: Vec<bool>,
+    /// The triangles near the samples being peeled one by one.
+    nearby: Vec<u32>,
 }
 
 impl VisBuffer {
@@ -69,8 +74,10 @@ impl VisBuffer {
             triangle: vec![EMPTY; n],
             object: vec![EMPTY; n],
             bary: vec![[0.0; 2]; n],
+            outline: false,
             refused: Vec::new(),
             reopened: Vec::new(),
+            nearby: Vec::new(),
         }
     }
 
@@ -85,8 +92,11 @@ impl VisBuffer {
         pattern: &SamplePattern,
     ) {
         self.begin_tile(bins.tile_size, tile, screen);
+        self.outline = false;
         for &t in &bins.bins[tile.1 * bins.tiles_x + tile.0] {
-            self.rasterize(&triangles[t as usize], t, pattern);
+            let tri = &triangles[t as usize];
+            self.outline |= tri.outline;
+            self.rasterize(tri, t, pattern);
         }
     }
 
@@ -109,7 +119,7 @@ impl VisBuffer {
             let d = tri.depth.at(dx, dy);
             let k = ((y - y0) * width + x - x0) * spp + s;
             // Ties go to the lower triangle index, so the result does not depend on binning order.
-            if d > depth[k] || (d == depth[k] && id < triangle[k]) {
+            if nearer((d, id), (depth[k], triangle[k])) {
                 depth[k] = d;
                 triangle[k] = id;
             }
@@ -117,10 +127,11 @@ impl VisBuffer {
     }
 
     /// Takes the triangles at samples `refused` out of those samples (the alpha test found them
-    /// transparent there) and rasterizes the tile's triangles again into those samples alone, keeping the
-    /// nearest fragment behind the refused one: one layer of depth peeling. Fragments are ordered by depth
-    /// key, then triangle index (the order of `rasterize`), so each pass moves strictly back and peeling
-    /// ends.
+    /// transparent there, or their ray misses the exact surface) and finds in the tile's triangles the
+    /// nearest fragment behind the refused one at each: one layer of depth peeling. Fragments are ordered
+    /// by depth key, then triangle index (the order of `rasterize`), so each pass moves strictly back and
+    /// peeling ends. A few samples (an outline's) are tested triangle by triangle; many (a cut-out leaf's)
+    /// by rasterizing the tile's triangles again into those samples alone.
     pub fn peel(
         &mut self,
         bins: &Bins,
@@ -129,6 +140,31 @@ impl VisBuffer {
         pattern: &SamplePattern,
         refused: &[usize],
     ) {
+        let bin = &bins.bins[tile.1 * bins.tiles_x + tile.0];
+        // One sample against one triangle is a few bounds and edge tests; rasterizing walks the whole
+        // bounding box of each triangle (measured on the canonical sphere's outline: tens of pixels per
+        // triangle and about ten instructions per pixel).
+        if refused.len() * bin.len() < 8 * self.width * self.height {
+            // The triangles that reach the refused samples' bounding box, then each sample against those.
+            let pixel =
+                |k: usize| ((self.x0 + k / self.spp % self.width) as i32, (self.y0 + k / self.spp / self.width) as i32);
+            let (mut lo, mut hi) = ((i32::MAX, i32::MAX), (i32::MIN, i32::MIN));
+            for &k in refused {
+                let (x, y) = pixel(k);
+                (lo, hi) = ((lo.0.min(x), lo.1.min(y)), (hi.0.max(x), hi.1.max(y)));
+            }
+            let mut nearby = std::mem::take(&mut self.nearby);
+            nearby.clear();
+            nearby.extend(bin.iter().copied().filter(|&t| {
+                let b = triangles[t as usize].bbox;
+                b[0] <= hi.0 && b[2] >= lo.0 && b[1] <= hi.1 && b[3] >= lo.1
+            }));
+            for &k in refused {
+                self.peel_sample(k, &nearby, triangles, pattern);
+            }
+            self.nearby = nearby;
+            return;
+        }
         let n = self.depth.len();
         self.refused.resize(n, (f32::INFINITY, EMPTY));
         self.reopened.resize(n, false);
@@ -140,7 +176,7 @@ impl VisBuffer {
         }
         let (x0, y0, width, spp) = (self.x0, self.y0, self.width, self.spp);
         let (depth, triangle, bound, open) = (&mut self.depth, &mut self.triangle, &self.refused, &self.reopened);
-        for &id in &bins.bins[tile.1 * bins.tiles_x + tile.0] {
+        for &id in bin {
             let tri = &triangles[id as usize];
             cover(tri, pattern, (x0, y0, width, self.height), |x, y, s, dx, dy| {
                 let k = ((y - y0) * width + x - x0) * spp + s;
@@ -149,8 +185,7 @@ impl VisBuffer {
                 }
                 let d = tri.depth.at(dx, dy);
                 let (bd, bid) = bound[k];
-                let behind = d < bd || (d == bd && id > bid);
-                if behind && (d > depth[k] || (d == depth[k] && id < triangle[k])) {
+                if behind((d, id), (bd, bid)) && nearer((d, id), (depth[k], triangle[k])) {
                     depth[k] = d;
                     triangle[k] = id;
                 }
@@ -159,6 +194,37 @@ impl VisBuffer {
         for &k in refused {
             self.reopened[k] = false;
         }
+    }
+
+    /// `peel` for one sample: the nearest fragment behind its own among the triangles `bin`.
+    fn peel_sample(&mut self, k: usize, bin: &[u32], triangles: &[ScreenTriangle], pattern: &SamplePattern) {
+        let bound = (self.depth[k], self.triangle[k]);
+        let mut best = (f32::NEG_INFINITY, EMPTY);
+        let (s, pixel) = (k % self.spp, k / self.spp);
+        let (x, y) = (self.x0 + pixel % self.width, self.y0 + pixel / self.width);
+        let offset = pattern.offsets[s];
+        let (ox, oy) = pattern.offset(s);
+        for &id in bin {
+            let tri = &triangles[id as usize];
+            let [bx0, by0, bx1, by1] = tri.bbox.map(|c| c as usize);
+            if x < bx0 || x > bx1 || y < by0 || y > by1 {
+                continue;
+            }
+            // The edge functions as `cover` evaluates them, so both paths agree to the bit.
+            let inside = (0..3).all(|e| {
+                let [a, b, c] = tri.edges[e];
+                let at_pixel = a * (x as i64 * SUBPIXEL) + b * (y as i64 * SUBPIXEL) + c;
+                at_pixel + (a * offset[0] + b * offset[1] + tri.bias[e]) >= 0
+            });
+            if !inside {
+                continue;
+            }
+            let d = tri.depth.at(x as f32 + (ox - tri.origin.x), y as f32 + (oy - tri.origin.y));
+            if behind((d, id), bound) && nearer((d, id), best) {
+                best = (d, id);
+            }
+        }
+        (self.depth[k], self.triangle[k]) = best;
     }
 
     /// Interpolates eight samples (lane i: sample `k[i]` on `tris[i]`, at screen position (x, y)) and records
@@ -187,6 +253,18 @@ impl VisBuffer {
         let (ox, oy) = pattern.offset(s);
         Vec2::new((self.x0 + x) as f32 + ox, (self.y0 + y) as f32 + oy)
     }
+}
+
+/// Whether fragment (depth key, triangle) `a` lies behind `b`: depth first, then the triangle index.
+#[inline]
+fn behind(a: (f32, u32), b: (f32, u32)) -> bool {
+    a.0 < b.0 || (a.0 == b.0 && a.1 > b.1)
+}
+
+/// Whether fragment `a` wins the depth test against `b` (the order of `rasterize`).
+#[inline]
+fn nearer(a: (f32, u32), b: (f32, u32)) -> bool {
+    a.0 > b.0 || (a.0 == b.0 && a.1 < b.1)
 }
 
 /// Calls `hit(x, y, s, dx, dy)` for every sample s of pixel (x, y) inside `rect` = (x0, y0, width, height)

@@ -5,15 +5,17 @@ mod frame;
 
 pub use frame::{Aovs, Frame, Stats, NO_PRIMITIVE};
 
+use crate::geometry::frame_lanes::Frame8;
 use crate::geometry::mesh_lanes;
 use crate::geometry::tessellate::{grid, segments_for, Mesh};
-use crate::geometry::{Instance, Primitive, TriangleMesh};
-use crate::lanes::{F8, LANES, V3};
+use crate::geometry::{Instance, Primitive, Surface, TriangleMesh};
+use crate::lanes::{mask_of, F8, LANES, V3};
 use crate::light::Light;
 use crate::limits::Limit;
 use crate::procedural::hypertexture::Hypertexture;
+use crate::raster::exact::{exact8, outline_triangles, start_within, Exact8};
 use crate::raster::refine::{affine_uv8, refine_uv8};
-use crate::raster::setup::ProjectedVertex;
+use crate::raster::setup::{Interpolated8, ProjectedVertex};
 use crate::raster::visibility::EMPTY;
 use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
 use crate::scene::Scene;
@@ -188,6 +190,7 @@ pub fn render_with_progress(
                 vis: VisBuffer::new(tile_size, options.spp),
                 shaded: Vec::new(),
                 candidates: Vec::new(),
+                missed: Vec::new(),
                 refused: Vec::new(),
                 replaced: Vec::new(),
             },
@@ -288,6 +291,18 @@ fn setup_triangles(
         .zip(meshes)
         .map(|(inst, mesh)| projector.project_vertices(mesh.positions(), mesh.uvs(), &inst.object_to_camera))
         .collect();
+    // Curved surfaces' triangles along their outline on screen (not where (u,v) is affine on purpose).
+    let outlines: Vec<Option<Vec<bool>>> = instances
+        .par_iter()
+        .zip(meshes)
+        .zip(&projected)
+        .map(|((inst, mesh), vertices)| match (&inst.primitive, mesh) {
+            (Primitive::Parametric(surface), Triangles::Grid(grid)) if !inst.affine => {
+                Some(outline_triangles(surface, grid, |k| vertices[k as usize].clip.pos, camera.is_perspective()))
+            }
+            _ => None,
+        })
+        .collect();
     let jobs: Vec<(usize, usize)> = meshes
         .iter()
         .enumerate()
@@ -297,13 +312,15 @@ fn setup_triangles(
         .par_iter()
         .map(|&(s, start)| {
             let tris = meshes[s].triangles();
+            let end = (start + CHUNK).min(tris.len());
             let mut setup = TriangleSetup::new(camera);
             setup.add_triangles(
                 &projected[s],
-                &tris[start..(start + CHUNK).min(tris.len())],
+                &tris[start..end],
                 s as u32,
                 first[s] + start as u32,
                 cull(&instances[s]),
+                outlines[s].as_ref().map(|o| &o[start..end]),
             );
             setup.triangles
         })
@@ -374,7 +391,7 @@ impl TileJob<'_> {
             return;
         }
         scratch.vis.render_tile(self.bins, tile, (w, h), self.triangles, self.pattern);
-        if self.any_masked || self.any_replacing {
+        if self.any_masked || self.any_replacing || scratch.vis.outline {
             self.fix_visibility(scratch, tile);
         }
         let TileScratch { vis, shaded, .. } = scratch;
@@ -443,12 +460,7 @@ impl TileJob<'_> {
         then: impl FnOnce(&Instance, &SurfaceSamples8<'_>) -> R,
     ) -> R {
         let inst = &self.instances[packet.surface as usize];
-        // Unused lanes repeat the first sample; their results are dropped.
-        let used = |i: usize| if i < packet.len { i } else { 0 };
-        let samples = std::array::from_fn(|i| packet.samples[used(i)]);
-        let tris = std::array::from_fn(|i| &self.triangles[packet.triangles[used(i)] as usize]);
-        let screen = |c: fn(Vec2) -> f32| F8::new(std::array::from_fn(|i| c(packet.screen[used(i)])));
-        let (sx, sy) = (screen(|p| p.x), screen(|p| p.y));
+        let (samples, tris, (sx, sy)) = self.lanes_of(packet);
         let at = vis.resolve8(&samples, &tris, inst.object, sx, sy);
         // Each of the spp stratified samples stands for its own 1/spp of the pixel: the texture filters
         // integrate over that cell, not the whole pixel again.
@@ -457,7 +469,6 @@ impl TileJob<'_> {
         let (parametric, mesh_sample);
         let samples = match &inst.primitive {
             Primitive::Parametric(surface) => {
-                let [dudx, dvdx, dudy, dvdy] = at.duv.map(|d| d * F8::splat(self.sample_cell));
                 let max_step = self.max_steps[packet.surface as usize];
                 // Affine (u,v) name the surface off the sample's ray: no step moves them onto it.
                 let (uv, max_step) = if inst.affine {
@@ -465,7 +476,20 @@ impl TileJob<'_> {
                 } else {
                     (at.uv, max_step)
                 };
-                parametric = refine_uv8(self.camera, surface, &inst.object_to_camera, uv, (sx, sy), max_step);
+                let (mut uv, mut frame) =
+                    refine_uv8(self.camera, surface, &inst.object_to_camera, uv, (sx, sy), max_step);
+                let mut duv = at.duv;
+                // Along the outline the exact surface's point on the ray replaces the one Newton step.
+                let outline = if vis.outline { outline_lanes(packet, &tris) } else { 0 };
+                if outline != 0 {
+                    let exact = self.exact_lanes(inst, surface, &at, &tris, (sx, sy), max_step);
+                    let mask = mask_of(outline);
+                    uv = (mask.blend(exact.uv.0, uv.0), mask.blend(exact.uv.1, uv.1));
+                    frame = Frame8::select(mask, &exact.frame, &frame);
+                    duv = std::array::from_fn(|k| mask.blend(exact.duv[k], duv[k]));
+                }
+                parametric = (uv, frame);
+                let [dudx, dvdx, dudy, dvdy] = duv.map(|d| d * F8::splat(self.sample_cell));
                 let footprint = Footprint8 { dudx, dvdx, dudy, dvdy };
                 SurfaceSamples8 { frame: &parametric.1, uv: parametric.0, footprint, uv1: None, triangles, mesh: None }
             }
@@ -490,6 +514,52 @@ impl TileJob<'_> {
         then(inst, &samples)
     }
 
+    /// The packet's samples, triangles and screen positions on lanes; unused lanes repeat the first sample
+    /// (their results are dropped).
+    #[inline(always)]
+    fn lanes_of(&self, packet: &Packet) -> ([usize; LANES], [&ScreenTriangle; LANES], (F8, F8)) {
+        let used = |i: usize| if i < packet.len { i } else { 0 };
+        let samples = std::array::from_fn(|i| packet.samples[used(i)]);
+        let tris = std::array::from_fn(|i| &self.triangles[packet.triangles[used(i)] as usize]);
+        let screen = |c: fn(Vec2) -> f32| F8::new(std::array::from_fn(|i| c(packet.screen[used(i)])));
+        (samples, tris, (screen(|p| p.x), screen(|p| p.y)))
+    }
+
+    /// Where the packet's sample rays meet its parametric surface exactly (raster/exact.rs).
+    #[inline(never)]
+    fn exact_lanes(
+        &self,
+        inst: &Instance,
+        surface: &Surface,
+        at: &Interpolated8,
+        tris: &[&ScreenTriangle; LANES],
+        screen: (F8, F8),
+        max_step: Vec2,
+    ) -> Exact8 {
+        let start = start_within(at.uv, &tris.map(|t| t.uv));
+        exact8(self.camera, surface, &inst.object_to_camera, &inst.camera_to_object, start, screen, max_step)
+    }
+
+    /// The outline test of the tile's samples `candidates` that lie on outline triangles: those whose ray
+    /// misses the exact surface are pushed onto `missed`.
+    fn outline_test(&self, vis: &mut VisBuffer, candidates: &[usize], missed: &mut Vec<usize>) {
+        self.packets_of(
+            vis,
+            candidates,
+            &[],
+            |t| t.outline,
+            |vis, packet| {
+                let inst = &self.instances[packet.surface as usize];
+                let Primitive::Parametric(surface) = &inst.primitive else { unreachable!("outlines are of surfaces") };
+                let (samples, tris, screen) = self.lanes_of(packet);
+                let at = vis.resolve8(&samples, &tris, inst.object, screen.0, screen.1);
+                let max_step = self.max_steps[packet.surface as usize];
+                let hits = self.exact_lanes(inst, surface, &at, &tris, screen, max_step).hits;
+                missed.extend((0..packet.len).filter(|&i| hits >> i & 1 == 0).map(|i| packet.samples[i]));
+            },
+        );
+    }
+
     /// Interpolates, refines and shades the packet's samples, and empties it.
     fn shade_packet(&self, vis: &mut VisBuffer, packet: &mut Packet, shaded: &mut [Shaded]) {
         let (result, object) = self.with_samples(vis, packet, |inst, at| (self.shade.shade8(inst, at), inst.object));
@@ -503,13 +573,13 @@ impl TileJob<'_> {
     }
 
     /// Calls `each` on packets of the samples `candidates` (less those in `skip`, a subsequence of them)
-    /// whose fragment's surface is `wanted`, eight of one surface at a time.
+    /// whose fragment's triangle is `wanted`, eight of one surface at a time.
     fn packets_of(
         &self,
         vis: &mut VisBuffer,
         candidates: &[usize],
         skip: &[usize],
-        wanted: impl Fn(usize) -> bool,
+        wanted: impl Fn(&ScreenTriangle) -> bool,
         mut each: impl FnMut(&mut VisBuffer, &Packet),
     ) {
         let mut packet = Packet::default();
@@ -523,7 +593,7 @@ impl TileJob<'_> {
                 continue;
             }
             let t = vis.triangle[k];
-            if t == EMPTY || !wanted(self.triangles[t as usize].surface as usize) {
+            if t == EMPTY || !wanted(&self.triangles[t as usize]) {
                 continue;
             }
             let surface = self.triangles[t as usize].surface;
@@ -541,14 +611,14 @@ impl TileJob<'_> {
         }
     }
 
-    /// The alpha test of the tile's samples `candidates` whose surfaces are masked: those whose alpha is
-    /// below their material's cutoff are pushed onto `refused`.
-    fn alpha_test(&self, vis: &mut VisBuffer, candidates: &[usize], refused: &mut Vec<usize>) {
+    /// The alpha test of the tile's samples `candidates` (less those in `skip`) whose surfaces are masked:
+    /// those whose alpha is below their material's cutoff are pushed onto `refused`.
+    fn alpha_test(&self, vis: &mut VisBuffer, candidates: &[usize], skip: &[usize], refused: &mut Vec<usize>) {
         self.packets_of(
             vis,
             candidates,
-            &[],
-            |s| self.cutoffs[s].is_some(),
+            skip,
+            |t| self.cutoffs[t.surface as usize].is_some(),
             |vis, packet| {
                 let cutoff = self.cutoffs[packet.surface as usize].expect("only masked surfaces are queued");
                 let alpha = self.with_samples(vis, packet, |inst, at| self.shade.alpha8(inst, at));
@@ -566,7 +636,7 @@ impl TileJob<'_> {
             vis,
             candidates,
             refused,
-            |s| self.replacing[s],
+            |t| self.replacing[t.surface as usize],
             |vis, packet| {
                 let found = self.with_samples(vis, packet, |inst, at| {
                     let distance = V3::transform_point(&inst.object_to_camera, at.frame.p).length();
@@ -588,22 +658,35 @@ impl TileJob<'_> {
         );
     }
 
-    /// Fixes the tile's visibility where the surface is not the flat triangle: samples the alpha test
-    /// refuses are peeled back to the next fragment behind and tested again, until every sample keeps its
-    /// fragment; samples of depth-replacing parallax surfaces are peeled too, and keep what lies behind
-    /// only where it is in front of their crossing. Out of line: most frames never call it, and the tile
-    /// loop keeps its registers.
+    /// Fixes the tile's visibility where the surface is not the flat triangle: samples whose ray misses the
+    /// exact surface along its outline, and samples the alpha test refuses, are peeled back to the next
+    /// fragment behind and tested again, until every sample keeps its fragment; samples of depth-replacing
+    /// parallax surfaces are peeled too, and keep what lies behind only where it is in front of their
+    /// crossing. Out of line: most tiles never call it, and the tile loop keeps its registers.
     #[inline(never)]
     fn fix_visibility(&self, scratch: &mut TileScratch, tile: (usize, usize)) {
-        let TileScratch { vis, candidates, refused, replaced, .. } = scratch;
+        let TileScratch { vis, candidates, missed, refused, replaced, .. } = scratch;
+        let fixed = |t: &ScreenTriangle| {
+            let s = t.surface as usize;
+            t.outline || self.cutoffs[s].is_some() || self.replacing[s]
+        };
         candidates.clear();
-        candidates.extend(0..vis.width * vis.height * vis.spp);
+        candidates.extend(
+            (0..vis.width * vis.height * vis.spp)
+                .filter(|&k| vis.triangle[k] != EMPTY && fixed(&self.triangles[vis.triangle[k] as usize])),
+        );
         loop {
+            missed.clear();
             refused.clear();
             replaced.clear();
-            // In order, so that what the alpha test refuses is a subsequence of the candidates.
+            // In order, so that what each test takes out is a subsequence of the candidates.
             candidates.sort_unstable();
-            self.alpha_test(vis, candidates, refused);
+            if vis.outline {
+                self.outline_test(vis, candidates, missed);
+            }
+            self.alpha_test(vis, candidates, missed, refused);
+            refused.extend_from_slice(missed);
+            refused.sort_unstable();
             if self.any_replacing {
                 self.replaced_depths(vis, candidates, refused, replaced);
             }
@@ -626,6 +709,12 @@ impl TileJob<'_> {
     }
 }
 
+/// Bit i: the packet's sample i lies on a triangle along its surface's outline.
+#[inline]
+fn outline_lanes(packet: &Packet, tris: &[&ScreenTriangle; LANES]) -> u8 {
+    (0..packet.len).filter(|&i| tris[i].outline).fold(0, |bits, i| bits | 1 << i)
+}
+
 /// A sample of a depth-replacing parallax surface: its fragment (depth key and triangle), and the key of
 /// its crossing behind it.
 struct Replaced {
@@ -636,11 +725,12 @@ struct Replaced {
 }
 
 /// One worker's buffers, reused from tile to tile: the visibility buffer, the shaded samples, and the
-/// alpha test's lists of samples.
+/// visibility fix-ups' lists of samples.
 struct TileScratch {
     vis: VisBuffer,
     shaded: Vec<Shaded>,
     candidates: Vec<usize>,
+    missed: Vec<usize>,
     refused: Vec<usize>,
     replaced: Vec<Replaced>,
 }
