@@ -732,7 +732,8 @@ fn sphere_outline_matches_the_analytic_disc() {
                 }
                 counted += 1;
                 covered += usize::from(want);
-                if want != !ids[j * w + i].is_nan() {
+                let rendered = !ids[j * w + i].is_nan();
+                if want != rendered {
                     wrong.push((i, j, want));
                 }
             }
@@ -827,7 +828,8 @@ fn torus_and_tube_outlines_match_their_ray_tests() {
                 continue;
             }
             covered += usize::from(want);
-            if want != !ids[j * w + i].is_nan() {
+            let rendered = !ids[j * w + i].is_nan();
+            if want != rendered {
                 wrong.push((i, j, want));
             }
         }

@@ -64,7 +64,7 @@ impl Mesh {
         let right = if i + 1 < nu { Some(q + 1) } else { wrap_u.then(|| q + 1 - nu) };
         let below = if j > 0 { Some(q - nu) } else { wrap_v.then(|| q + nu * (nv - 1)) };
         let above = if j + 1 < nv { Some(q + nu) } else { wrap_v.then(|| q - nu * (nv - 1)) };
-        if t % 2 == 0 {
+        if t.is_multiple_of(2) {
             [below.map(|q| 2 * q + 1), right.map(|q| 2 * q + 1), Some(t + 1)]
         } else {
             [Some(t - 1), above.map(|q| 2 * q), left.map(|q| 2 * q)]

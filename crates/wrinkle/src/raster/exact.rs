@@ -109,7 +109,7 @@ fn newton_hits(
     for _ in 0..NEWTON_STEPS {
         let at = OnScreen8::of(camera, object_to_camera, &surface.frame8(u, v));
         let (rx, ry) = (screen.0 - at.x, screen.1 - at.y);
-        converged = converged | (rx * rx + ry * ry).cmp_lt(close);
+        converged |= (rx * rx + ry * ry).cmp_lt(close);
         if converged.move_mask() == 0xff {
             break;
         }
