@@ -10,14 +10,27 @@ use super::refine::OnScreen8;
 use crate::geometry::frame_lanes::Frame8;
 use crate::geometry::mesh_lanes::Rays8;
 use crate::geometry::tessellate::Mesh;
-use crate::geometry::Surface;
-use crate::lanes::{CmpLt, F8, LANES};
+use crate::geometry::{Surface, SurfaceFrame};
+use crate::lanes::{mask_of, CmpGt, CmpLt, F8, LANES};
 use glam::{Affine3A, DVec3, Vec2, Vec3};
 use rayon::prelude::*;
 
 /// How far (in pixels) the triangles along an outline are widened: twice the tessellation's sag allowance,
 /// which is itself an estimate.
 pub const OUTLINE_MARGIN_PX: f32 = 0.5;
+
+/// Where a triangle lies against its surface's outline on screen.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Outline {
+    /// Inside: the flat triangle's samples are the surface's.
+    #[default]
+    Inside,
+    /// Along a curved open edge of the surface: the samples of the widened margin are tested.
+    Edge,
+    /// Where the surface turns away from the eye (or beside a pole): every sample is tested, since near a
+    /// fold of a surface that is not convex the flat triangle may also reach beyond the surface.
+    Fold,
+}
 
 /// Newton steps at most; each halves the distance to a solution near the fold of the outline, and then
 /// converges quadratically.
@@ -27,19 +40,11 @@ const NEWTON_STEPS: usize = 16;
 /// rounding of screen positions (1e-4 px at 2000 px), below the 1e-3 px left open at the outline.
 const HIT_PX: f32 = 5e-4;
 
-/// The exact surface along eight sample rays.
-pub struct Exact8 {
-    /// Bit i: lane i's ray meets the surface.
-    pub hits: u8,
-    /// The (u,v) of each hit (the starting (u,v) where there is none), the frame there, and its footprint
-    /// per screen pixel: du/dx, dv/dx, du/dy, dv/dy.
-    pub uv: (F8, F8),
-    pub frame: Frame8,
-    pub duv: [F8; 4],
-}
-
-/// Where the rays through `screen` meet `surface` (placed by `object_to_camera`), starting from the (u,v)
-/// `start` of the triangle each sample was found on. `max_step` is one tessellation segment in (u,v).
+/// Where the rays through `screen` meet `surface` (placed by `object_to_camera`) in the lanes `lanes`
+/// (bit i: lane i), starting from the (u,v) `start` of the triangle each sample was found on: the lanes
+/// whose ray meets it (bit i: lane i), and the (u,v) there (elsewhere the start). `max_step` is one
+/// tessellation segment in (u,v).
+#[allow(clippy::too_many_arguments)]
 pub fn exact8(
     camera: &Camera,
     surface: &Surface,
@@ -48,25 +53,46 @@ pub fn exact8(
     start: (F8, F8),
     screen: (F8, F8),
     max_step: Vec2,
-) -> Exact8 {
-    let (hits, uv) = match *surface {
+    lanes: u8,
+) -> (u8, (F8, F8)) {
+    match *surface {
         Surface::Sphere { radius } => {
             let rays = camera.rays8(screen.0, screen.1, 1.0).transformed(camera_to_object);
-            sphere_hits(radius, &rays, start)
+            sphere_hits(radius, &rays, start, lanes)
         }
-        _ => newton_hits(camera, surface, object_to_camera, start, screen, max_step),
+        _ => newton_hits(camera, surface, object_to_camera, start, screen, max_step, lanes),
+    }
+}
+
+/// The surface frames at eight (u,v) (lane by lane for the lanes `lanes` alone, but the sphere's on all),
+/// and the (u,v) footprint of a pixel there: du/dx, dv/dx, du/dy, dv/dy.
+pub fn frames_at(
+    camera: &Camera,
+    surface: &Surface,
+    object_to_camera: &Affine3A,
+    uv: (F8, F8),
+    lanes: u8,
+) -> (Frame8, [F8; 4]) {
+    let frame = if let Surface::Sphere { .. } = surface {
+        surface.frame8(uv.0, uv.1)
+    } else {
+        let (u, v) = (uv.0.as_array_ref(), uv.1.as_array_ref());
+        let mut frames = [SurfaceFrame::default(); LANES];
+        for i in (0..LANES).filter(|i| lanes >> i & 1 == 1) {
+            frames[i] = surface.frame(u[i], v[i]);
+        }
+        Frame8::from_lanes(&frames)
     };
-    let frame = surface.frame8(uv.0, uv.1);
     let duv = OnScreen8::of(camera, object_to_camera, &frame).uv_derivatives();
-    Exact8 { hits, uv, frame, duv }
+    (frame, duv)
 }
 
 /// The sphere's first crossing with each ray, in double precision: near the outline the discriminant is
 /// the small difference of two large numbers.
-fn sphere_hits(radius: f32, rays: &Rays8, start: (F8, F8)) -> (u8, (F8, F8)) {
+fn sphere_hits(radius: f32, rays: &Rays8, start: (F8, F8), lanes: u8) -> (u8, (F8, F8)) {
     let (mut u, mut v) = (*start.0.as_array_ref(), *start.1.as_array_ref());
     let mut hits = 0;
-    for i in 0..LANES {
+    for i in (0..LANES).filter(|i| lanes >> i & 1 == 1) {
         let (o, d) = (rays.origin.lane(i).as_dvec3(), rays.dir.lane(i).as_dvec3());
         let r = radius as f64;
         let (a, b, c) = (d.dot(d), o.dot(d), o.dot(o) - r * r);
@@ -90,8 +116,10 @@ fn sphere_uv(p: DVec3, r: f64) -> (f32, f32) {
     ((u - u.floor()) as f32, v as f32)
 }
 
-/// Newton's method on lanes: each lane stops where its point lies within `HIT_PX` of its ray on screen, and
-/// hits there if (u,v) lies on the surface (inside [0,1] in a parameter that does not wrap).
+/// Newton's method, lane by lane for the surface (the sphere, the one surface on lanes, has its own test)
+/// and on lanes for the rest: each lane stops where its point lies within `HIT_PX` of its ray on screen, and
+/// hits there if (u,v) lies on the surface (inside [0,1] in a parameter that does not wrap). A lane gives
+/// up where its step is not finite or it has left the surface by a whole period.
 fn newton_hits(
     camera: &Camera,
     surface: &Surface,
@@ -99,44 +127,61 @@ fn newton_hits(
     start: (F8, F8),
     screen: (F8, F8),
     max_step: Vec2,
+    lanes: u8,
 ) -> (u8, (F8, F8)) {
     let (wrap_u, wrap_v) = surface.wraps();
     let (mut u, mut v) = start;
-    let mut converged = F8::ZERO;
+    let (mut converged, mut done) = (0u8, !lanes);
     let close = F8::splat(HIT_PX * HIT_PX);
     // A step longer than a segment is shortened to one, keeping its direction.
     let (max_u, max_v) = (F8::splat(max_step.x.max(1e-6)), F8::splat(max_step.y.max(1e-6)));
+    let far = |x: F8, wraps: bool| {
+        if wraps {
+            0
+        } else {
+            ((x - F8::splat(0.5)).abs().cmp_gt(F8::splat(1.5))).move_mask() as u8
+        }
+    };
+    let mut frames = [SurfaceFrame::default(); LANES];
     for _ in 0..NEWTON_STEPS {
-        let at = OnScreen8::of(camera, object_to_camera, &surface.frame8(u, v));
+        let (uu, vv) = (u.as_array_ref(), v.as_array_ref());
+        for (i, f) in frames.iter_mut().enumerate().filter(|(i, _)| done >> i & 1 == 0) {
+            *f = surface.frame(uu[i], vv[i]);
+        }
+        let at = OnScreen8::of(camera, object_to_camera, &Frame8::from_lanes(&frames));
         let (rx, ry) = (screen.0 - at.x, screen.1 - at.y);
-        converged |= (rx * rx + ry * ry).cmp_lt(close);
-        if converged.move_mask() == 0xff {
+        let close_now = (rx * rx + ry * ry).cmp_lt(close).move_mask() as u8 & !done;
+        converged |= close_now;
+        done |= close_now;
+        if done == 0xff {
             break;
         }
         let (du, dv) = at.step_to(screen);
         let longest = (du.abs() / max_u).max(dv.abs() / max_v).max(F8::ONE);
         let (du, dv) = (du / longest, dv / longest);
-        let moving = !converged & du.is_finite() & dv.is_finite();
+        done |= !(du.is_finite() & dv.is_finite()).move_mask() as u8;
+        let moving = mask_of(!done);
         let wrap = |x: F8, wraps: bool| if wraps { x - x.floor() } else { x };
         u = moving.blend(wrap(u + du, wrap_u), u);
         v = moving.blend(wrap(v + dv, wrap_v), v);
+        done |= far(u, wrap_u) | far(v, wrap_v);
     }
-    let inside = |x: F8, wraps: bool| if wraps { 0xff } else { (!x.cmp_lt(F8::ZERO) & !F8::ONE.cmp_lt(x)).move_mask() };
-    let hits = converged.move_mask() & inside(u, wrap_u) & inside(v, wrap_v);
-    (hits as u8, (u, v))
+    let inside =
+        |x: F8, wraps: bool| if wraps { 0xff } else { (!x.cmp_lt(F8::ZERO) & !F8::ONE.cmp_lt(x)).move_mask() as u8 };
+    (converged & inside(u, wrap_u) & inside(v, wrap_v), (u, v))
 }
 
-/// Which triangles of a surface's grid lie along its outline on screen, given the grid's vertices in camera
-/// space: those facing the eye the other way from a neighbour, or next to a degenerate one (at a pole), or
-/// along a curved open edge. The flat triangles stay inside the surface everywhere else.
+/// Where each triangle of a surface's grid lies against its outline on screen, given the grid's vertices in
+/// camera space: a fold where it faces the eye the other way from a neighbour (or a neighbour is degenerate,
+/// at a pole), an edge along a curved open edge of the surface.
 pub fn outline_triangles(
     surface: &Surface,
     grid: &Mesh,
     camera_position: impl Fn(u32) -> Vec3 + Sync,
     perspective: bool,
-) -> Vec<bool> {
+) -> Vec<Outline> {
     if surface.is_parallelogram() {
-        return vec![false; grid.triangles.len()];
+        return vec![Outline::Inside; grid.triangles.len()];
     }
     // A bilinear patch's edges are straight: its triangles follow them exactly.
     let curved_edges = !matches!(surface, Surface::Patch { .. });
@@ -157,13 +202,30 @@ pub fn outline_triangles(
         .into_par_iter()
         .with_min_len(CHUNK)
         .map(|t| {
-            facing[t] == 0
-                || grid.neighbours(t).iter().any(|n| match n {
-                    Some(n) => facing[*n] != facing[t],
-                    None => curved_edges,
-                })
+            let neighbours = grid.neighbours(t);
+            if facing[t] == 0 || neighbours.iter().flatten().any(|&n| facing[n] != facing[t]) {
+                Outline::Fold
+            } else if curved_edges && neighbours.contains(&None) {
+                Outline::Edge
+            } else {
+                Outline::Inside
+            }
         })
         .collect()
+}
+
+/// The lanes (bit i: lane i, of the first `len`) whose samples the exact test decides: those on fold
+/// triangles, and those on edge triangles outside the flat triangle (barycentrics `bary`).
+pub fn tested_lanes(outlines: [Outline; LANES], bary: [F8; 2], len: usize) -> u8 {
+    let [b1, b2] = bary;
+    let inside =
+        (!b1.cmp_lt(F8::ZERO) & !b2.cmp_lt(F8::ZERO) & !F8::ONE.cmp_lt(b1 + b2) & b1.is_finite() & b2.is_finite())
+            .move_mask();
+    (0..len).fold(0, |bits, i| match outlines[i] {
+        Outline::Inside => bits,
+        Outline::Edge if inside >> i & 1 == 1 => bits,
+        _ => bits | 1 << i,
+    })
 }
 
 /// A (u,v) to start from for each lane: the interpolated one kept within its triangle's (u,v) bounds (beyond
@@ -209,7 +271,7 @@ mod tests {
         let target = cam.project(to_cam.transform_point3(torus.position(0.31, 0.12))).0;
         let s = F8::splat;
         let (hits, (u, v)) =
-            newton_hits(&cam, &torus, &to_cam, (s(0.3), s(0.1)), (s(target.x), s(target.y)), Vec2::splat(0.05));
+            newton_hits(&cam, &torus, &to_cam, (s(0.3), s(0.1)), (s(target.x), s(target.y)), Vec2::splat(0.05), 0xff);
         assert_eq!(hits, 0xff);
         let got = cam.project(to_cam.transform_point3(torus.position(u.as_array_ref()[0], v.as_array_ref()[0]))).0;
         assert!((got - target).length() < HIT_PX, "{got} vs {target}");

@@ -3,7 +3,7 @@
 
 use super::camera::Camera;
 use super::clip::{clip_planes, clip_polygon, inside_all, ClipVertex};
-use super::exact::OUTLINE_MARGIN_PX;
+use super::exact::{Outline, OUTLINE_MARGIN_PX};
 use super::SUBPIXEL;
 use crate::lanes::{F8, LANES};
 use glam::{Affine3A, Vec2, Vec3, Vec4};
@@ -76,9 +76,9 @@ pub struct ScreenTriangle {
     pub surface: u32,
     /// The index within its object of the triangle it was set up from (clipped pieces share it).
     pub triangle: u32,
-    /// Lies along a curved surface's outline: widened by `exact::OUTLINE_MARGIN_PX`, and each sample it
-    /// covers is tested against the exact surface (raster/exact.rs).
-    pub outline: bool,
+    /// Where it lies against a curved surface's outline: along it, it is widened by
+    /// `exact::OUTLINE_MARGIN_PX` and samples it covers are tested against the exact surface (raster/exact.rs).
+    pub outline: Outline,
 }
 
 /// Which surface a triangle belongs to, and its number within its object.
@@ -86,7 +86,7 @@ pub struct ScreenTriangle {
 struct TriangleId {
     surface: u32,
     triangle: u32,
-    outline: bool,
+    outline: Outline,
 }
 
 /// Everything interpolated at eight screen positions (x, y), lane i on triangle `tris[i]`: perspective-correct
@@ -193,11 +193,11 @@ impl<'a> TriangleSetup<'a> {
         surface: u32,
         first: u32,
         cull: Cull,
-        outline: Option<&[bool]>,
+        outline: Option<&[Outline]>,
     ) {
         self.triangles.reserve(triangles.len());
         for (k, t) in triangles.iter().enumerate() {
-            let outline = outline.is_some_and(|o| o[k]);
+            let outline = outline.map_or(Outline::Inside, |o| o[k]);
             let id = TriangleId { surface, triangle: first + k as u32, outline };
             let tri = t.map(|k| vertices[k as usize]);
             if tri.iter().all(|v| v.inside) {
@@ -242,7 +242,7 @@ impl<'a> TriangleSetup<'a> {
             // Fill rule: a sample exactly on an edge belongs to the triangle for which (A, B) points "right or
             // down"; the neighbour across the edge has (-A, -B), so exactly one of the two owns it.
             bias[e] = if ca > 0 || (ca == 0 && cb > 0) { 0 } else { -1 };
-            if id.outline {
+            if id.outline != Outline::Inside {
                 // Each edge moved out by the margin: E is the distance in subpixels times |(A, B)|.
                 let margin = OUTLINE_MARGIN_PX as f64 * SUBPIXEL as f64 * ((ca * ca + cb * cb) as f64).sqrt();
                 edges[e][2] += margin.ceil() as i64;
@@ -250,7 +250,7 @@ impl<'a> TriangleSetup<'a> {
         }
         // Moved edges meet beyond the corners (far beyond at sharp ones); the box keeps what lies within the
         // margin of the triangle, which is all the outline needs.
-        let pad = if id.outline { OUTLINE_MARGIN_PX.ceil() as i64 * SUBPIXEL } else { 0 };
+        let pad = if id.outline != Outline::Inside { OUTLINE_MARGIN_PX.ceil() as i64 * SUBPIXEL } else { 0 };
         let (w, h) = (cam.width as i64, cam.height as i64);
         let minx = (fx.iter().map(|p| p[0]).min().unwrap_or(0) - pad).div_euclid(SUBPIXEL).max(0);
         let maxx = (fx.iter().map(|p| p[0]).max().unwrap_or(0) + pad).div_euclid(SUBPIXEL).min(w - 1);

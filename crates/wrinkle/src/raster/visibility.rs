@@ -2,6 +2,7 @@
 //! the perspective-correct barycentrics of the nearest surface. Tiles are independent, so they render in
 //! parallel; triangles are binned to the tiles their bounding boxes touch.
 
+use super::exact::Outline;
 use super::samples::SamplePattern;
 use super::setup::{interpolate8, Interpolated8, ScreenTriangle};
 use super::SUBPIXEL;
@@ -51,8 +52,9 @@ pub struct VisBuffer {
     pub object: Vec<u32>,
     pub bary: Vec<[f32; 2]>,
     /// Whether a triangle along a curved surface's outline reaches the tile (its samples then get the
-    /// exact test).
+    /// exact test), and per sample the (u,v) where the test found the sample's ray meets the surface.
     pub outline: bool,
+    pub exact_uv: Vec<[f32; 2]>,
     /// The alpha test's depth peeling: per sample, the fragment (depth key, triangle) it refused, and
     /// whether the sample is open to the fragments behind it. Sized on first use.
     refused: Vec<(f32, u32)>,
@@ -75,6 +77,7 @@ impl VisBuffer {
             object: vec![EMPTY; n],
             bary: vec![[0.0; 2]; n],
             outline: false,
+            exact_uv: vec![[0.0; 2]; n],
             refused: Vec::new(),
             reopened: Vec::new(),
             nearby: Vec::new(),
@@ -95,7 +98,7 @@ impl VisBuffer {
         self.outline = false;
         for &t in &bins.bins[tile.1 * bins.tiles_x + tile.0] {
             let tri = &triangles[t as usize];
-            self.outline |= tri.outline;
+            self.outline |= tri.outline != Outline::Inside;
             self.rasterize(tri, t, pattern);
         }
     }
@@ -145,22 +148,28 @@ impl VisBuffer {
         // bounding box of each triangle (measured on the canonical sphere's outline: tens of pixels per
         // triangle and about ten instructions per pixel).
         if refused.len() * bin.len() < 8 * self.width * self.height {
-            // The triangles that reach the refused samples' bounding box, then each sample against those.
-            let pixel =
-                |k: usize| ((self.x0 + k / self.spp % self.width) as i32, (self.y0 + k / self.spp / self.width) as i32);
-            let (mut lo, mut hi) = ((i32::MAX, i32::MAX), (i32::MIN, i32::MIN));
-            for &k in refused {
-                let (x, y) = pixel(k);
-                (lo, hi) = ((lo.0.min(x), lo.1.min(y)), (hi.0.max(x), hi.1.max(y)));
-            }
+            // Samples in bands of eight rows: the triangles that reach a band's samples, then each sample
+            // against those.
+            let (x0, y0, width, spp) = (self.x0, self.y0, self.width, self.spp);
+            let pixel = move |k: usize| {
+                let p = k / spp;
+                ((x0 + p % width) as i32, (y0 + p / width) as i32)
+            };
             let mut nearby = std::mem::take(&mut self.nearby);
-            nearby.clear();
-            nearby.extend(bin.iter().copied().filter(|&t| {
-                let b = triangles[t as usize].bbox;
-                b[0] <= hi.0 && b[2] >= lo.0 && b[1] <= hi.1 && b[3] >= lo.1
-            }));
-            for &k in refused {
-                self.peel_sample(k, &nearby, triangles, pattern);
+            for band in refused.chunk_by(|&a, &b| pixel(a).1 / 8 == pixel(b).1 / 8) {
+                let (mut lo, mut hi) = ((i32::MAX, i32::MAX), (i32::MIN, i32::MIN));
+                for &k in band {
+                    let (x, y) = pixel(k);
+                    (lo, hi) = ((lo.0.min(x), lo.1.min(y)), (hi.0.max(x), hi.1.max(y)));
+                }
+                nearby.clear();
+                nearby.extend(bin.iter().copied().filter(|&t| {
+                    let b = triangles[t as usize].bbox;
+                    b[0] <= hi.0 && b[2] >= lo.0 && b[1] <= hi.1 && b[3] >= lo.1
+                }));
+                for &k in band {
+                    self.peel_sample(k, &nearby, triangles, pattern);
+                }
             }
             self.nearby = nearby;
             return;

@@ -8,14 +8,14 @@ pub use frame::{Aovs, Frame, Stats, NO_PRIMITIVE};
 use crate::geometry::frame_lanes::Frame8;
 use crate::geometry::mesh_lanes;
 use crate::geometry::tessellate::{grid, segments_for, Mesh};
-use crate::geometry::{Instance, Primitive, Surface, TriangleMesh};
+use crate::geometry::{Instance, Primitive, TriangleMesh};
 use crate::lanes::{mask_of, F8, LANES, V3};
 use crate::light::Light;
 use crate::limits::Limit;
 use crate::procedural::hypertexture::Hypertexture;
-use crate::raster::exact::{exact8, outline_triangles, start_within, Exact8};
+use crate::raster::exact::{exact8, frames_at, outline_triangles, start_within, tested_lanes, Outline};
 use crate::raster::refine::{affine_uv8, refine_uv8};
-use crate::raster::setup::{Interpolated8, ProjectedVertex};
+use crate::raster::setup::ProjectedVertex;
 use crate::raster::visibility::EMPTY;
 use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
 use crate::scene::Scene;
@@ -292,7 +292,7 @@ fn setup_triangles(
         .map(|(inst, mesh)| projector.project_vertices(mesh.positions(), mesh.uvs(), &inst.object_to_camera))
         .collect();
     // Curved surfaces' triangles along their outline on screen (not where (u,v) is affine on purpose).
-    let outlines: Vec<Option<Vec<bool>>> = instances
+    let outlines: Vec<Option<Vec<Outline>>> = instances
         .par_iter()
         .zip(meshes)
         .zip(&projected)
@@ -480,13 +480,15 @@ impl TileJob<'_> {
                     refine_uv8(self.camera, surface, &inst.object_to_camera, uv, (sx, sy), max_step);
                 let mut duv = at.duv;
                 // Along the outline the exact surface's point on the ray replaces the one Newton step.
-                let outline = if vis.outline { outline_lanes(packet, &tris) } else { 0 };
+                let outline = if vis.outline { tested_lanes(tris.map(|t| t.outline), at.bary, packet.len) } else { 0 };
                 if outline != 0 {
-                    let exact = self.exact_lanes(inst, surface, &at, &tris, (sx, sy), max_step);
+                    // The outline test (fix_visibility) found these lanes' (u,v).
+                    let exact = |c: usize| F8::new(samples.map(|k| vis.exact_uv[k][c]));
                     let mask = mask_of(outline);
-                    uv = (mask.blend(exact.uv.0, uv.0), mask.blend(exact.uv.1, uv.1));
-                    frame = Frame8::select(mask, &exact.frame, &frame);
-                    duv = std::array::from_fn(|k| mask.blend(exact.duv[k], duv[k]));
+                    uv = (mask.blend(exact(0), uv.0), mask.blend(exact(1), uv.1));
+                    let (exact_frame, exact_duv) = frames_at(self.camera, surface, &inst.object_to_camera, uv, outline);
+                    frame = Frame8::select(mask, &exact_frame, &frame);
+                    duv = std::array::from_fn(|k| mask.blend(exact_duv[k], duv[k]));
                 }
                 parametric = (uv, frame);
                 let [dudx, dvdx, dudy, dvdy] = duv.map(|d| d * F8::splat(self.sample_cell));
@@ -525,21 +527,6 @@ impl TileJob<'_> {
         (samples, tris, (screen(|p| p.x), screen(|p| p.y)))
     }
 
-    /// Where the packet's sample rays meet its parametric surface exactly (raster/exact.rs).
-    #[inline(never)]
-    fn exact_lanes(
-        &self,
-        inst: &Instance,
-        surface: &Surface,
-        at: &Interpolated8,
-        tris: &[&ScreenTriangle; LANES],
-        screen: (F8, F8),
-        max_step: Vec2,
-    ) -> Exact8 {
-        let start = start_within(at.uv, &tris.map(|t| t.uv));
-        exact8(self.camera, surface, &inst.object_to_camera, &inst.camera_to_object, start, screen, max_step)
-    }
-
     /// The outline test of the tile's samples `candidates` that lie on outline triangles: those whose ray
     /// misses the exact surface are pushed onto `missed`.
     fn outline_test(&self, vis: &mut VisBuffer, candidates: &[usize], missed: &mut Vec<usize>) {
@@ -547,15 +534,30 @@ impl TileJob<'_> {
             vis,
             candidates,
             &[],
-            |t| t.outline,
+            |t| t.outline != Outline::Inside,
             |vis, packet| {
                 let inst = &self.instances[packet.surface as usize];
                 let Primitive::Parametric(surface) = &inst.primitive else { unreachable!("outlines are of surfaces") };
                 let (samples, tris, screen) = self.lanes_of(packet);
                 let at = vis.resolve8(&samples, &tris, inst.object, screen.0, screen.1);
                 let max_step = self.max_steps[packet.surface as usize];
-                let hits = self.exact_lanes(inst, surface, &at, &tris, screen, max_step).hits;
-                missed.extend((0..packet.len).filter(|&i| hits >> i & 1 == 0).map(|i| packet.samples[i]));
+                let tested = tested_lanes(tris.map(|t| t.outline), at.bary, packet.len);
+                if tested == 0 {
+                    return;
+                }
+                let start = start_within(at.uv, &tris.map(|t| t.uv));
+                let (to_camera, to_object) = (&inst.object_to_camera, &inst.camera_to_object);
+                let (hits, (u, v)) =
+                    exact8(self.camera, surface, to_camera, to_object, start, screen, max_step, tested);
+                let (u, v) = (u.as_array_ref(), v.as_array_ref());
+                for i in 0..packet.len {
+                    let k = packet.samples[i];
+                    if (tested & !hits) >> i & 1 == 1 {
+                        missed.push(k);
+                    } else if tested >> i & 1 == 1 {
+                        vis.exact_uv[k] = [u[i], v[i]];
+                    }
+                }
             },
         );
     }
@@ -668,7 +670,7 @@ impl TileJob<'_> {
         let TileScratch { vis, candidates, missed, refused, replaced, .. } = scratch;
         let fixed = |t: &ScreenTriangle| {
             let s = t.surface as usize;
-            t.outline || self.cutoffs[s].is_some() || self.replacing[s]
+            t.outline != Outline::Inside || self.cutoffs[s].is_some() || self.replacing[s]
         };
         candidates.clear();
         candidates.extend(
@@ -707,12 +709,6 @@ impl TileJob<'_> {
             std::mem::swap(candidates, refused);
         }
     }
-}
-
-/// Bit i: the packet's sample i lies on a triangle along its surface's outline.
-#[inline]
-fn outline_lanes(packet: &Packet, tris: &[&ScreenTriangle; LANES]) -> u8 {
-    (0..packet.len).filter(|&i| tris[i].outline).fold(0, |bits, i| bits | 1 << i)
 }
 
 /// A sample of a depth-replacing parallax surface: its fragment (depth key and triangle), and the key of
