@@ -284,7 +284,7 @@ mod tests {
         let patch = Surface::Bicubic { points };
         let edge = cam.project(to_cam.transform_point3(Vec3::new(1.0, 0.0, 0.0))).0;
         let (hits, _) =
-            newton_hits(&cam, &patch, &to_cam, (s(0.98), s(0.5)), (s(edge.x + 2.0), s(edge.y)), Vec2::splat(0.1));
+            newton_hits(&cam, &patch, &to_cam, (s(0.98), s(0.5)), (s(edge.x + 2.0), s(edge.y)), Vec2::splat(0.1), 0xff);
         assert_eq!(hits, 0);
     }
 }
