@@ -144,10 +144,10 @@ impl VisBuffer {
         refused: &[usize],
     ) {
         let bin = &bins.bins[tile.1 * bins.tiles_x + tile.0];
-        // One sample against one triangle is a few bounds and edge tests; rasterizing walks the whole
-        // bounding box of each triangle (measured on the canonical sphere's outline: tens of pixels per
-        // triangle and about ten instructions per pixel).
-        if refused.len() * bin.len() < 8 * self.width * self.height {
+        // One sample against the triangles near its band is a few bounds and edge tests each; rasterizing
+        // walks the whole bounding box of every triangle of the tile. Samples one by one won on outlines
+        // (tens of refused samples a tile, hundreds of triangles) until about an eighth of the tile.
+        if refused.len() * 8 < self.depth.len().min(self.width * self.height * self.spp) {
             // Samples in bands of eight rows: the triangles that reach a band's samples, then each sample
             // against those.
             let (x0, y0, width, spp) = (self.x0, self.y0, self.width, self.spp);
