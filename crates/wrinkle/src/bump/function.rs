@@ -85,6 +85,17 @@ impl BumpMap {
         [k(self.scale) * f, fs * k(ku.x) + ft * k(ku.y), fs * k(kv.x) + ft * k(kv.y)]
     }
 
+    /// F alone on eight lanes (a parallax march's reads): a table through the surface's (u,v) on the lanes
+    /// without its derivatives, anything else as `eval8`.
+    #[inline(always)]
+    pub fn height8(&self, ctx: &LookupContext8<'_>, filter: &FilterOptions) -> F8 {
+        let (BumpSource::Table(table), Some(_)) = (&self.source, self.mapping.constant_jacobian()) else {
+            return self.eval8(ctx, filter)[0];
+        };
+        let (mapped, _) = self.mapping.apply8(ctx);
+        F8::splat(self.scale) * table.height8(mapped.u, mapped.v, &mapped.footprint, filter)
+    }
+
     /// An offset vector map's slopes along s and t, carried to u and v through the mapping's Jacobian.
     fn offsets(&self, map: &FilteredTexture, ctx: &LookupContext, filter: &FilterOptions) -> Gradient {
         let (mapped, jacobian) = self.mapping.apply_with_jacobian(ctx);

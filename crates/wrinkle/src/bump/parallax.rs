@@ -66,7 +66,7 @@ impl Parallax {
         let sign = F8::splat(bump.scale.signum());
         let below = |depth: F8| {
             let at = LookupContext8 { u: ctx.u + du * depth, v: ctx.v + dv * depth, ..*ctx };
-            F8::splat(depth_of_field) - bump.eval8(&at, filter)[0] * sign
+            F8::splat(depth_of_field) - bump.height8(&at, filter) * sign
         };
         let step = depth_of_field / count as f32;
         let (mut prev_depth, mut prev_gap) = (F8::ZERO, -below(F8::ZERO));

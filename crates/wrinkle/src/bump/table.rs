@@ -132,6 +132,16 @@ impl BumpTable {
         }
     }
 
+    /// F alone at eight (s,t) (what a parallax march reads at each step): the bilinear full-table FVAL from
+    /// its four taps on the lanes, every other filter through `lookup8`.
+    #[inline]
+    pub fn height8(&self, s: F8, t: F8, fp: &Footprint8, opts: &FilterOptions) -> F8 {
+        match opts.filter {
+            Filter::Reconstruct(Kernel::Bilinear) => self.data.levels()[0].bilinear_height8(s, t),
+            _ => self.lookup8(s, t, fp, opts)[0],
+        }
+    }
+
     /// F, Fs, Ft at (s,t) through any texture filter, `fp` the footprint in (s,t) units.
     #[inline]
     pub fn filtered(&self, s: f32, t: f32, fp: &Footprint, opts: &FilterOptions) -> Gradient {
@@ -213,28 +223,46 @@ impl Gradients {
         }
     }
 
+    /// The texels of the 4x4 neighbourhood of eight bilinear lookups (row `r`, column `c`, 0..4: the taps'
+    /// outer neighbours, the two taps, the outer neighbours) and the bilinear weights.
+    #[inline(always)]
+    fn neighbourhood_texels8(&self, s: F8, t: F8) -> (impl Fn(usize, usize) -> F8 + '_, F8, F8) {
+        let w = self.0.width;
+        let (cols, fx) = neighbourhood8(s, w);
+        let (rows, fy) = neighbourhood8(t, self.0.height);
+        let row_starts = rows.map(|r| r * I8::splat(w as i32));
+        (move |r: usize, c: usize| gather(&self.0.texels, row_starts[r] + cols[c]), fx, fy)
+    }
+
+    /// The bilinear F alone on eight lanes: the four taps of `bilinear8`'s F.
+    #[inline]
+    fn bilinear_height8(&self, s: F8, t: F8) -> F8 {
+        let (texel, fx, fy) = self.neighbourhood_texels8(s, t);
+        lerp2(fx, fy, texel(1, 1), texel(1, 2), texel(2, 1), texel(2, 2))
+    }
+
     /// The bilinear `lookup` on eight lanes.
     #[inline]
     fn bilinear8(&self, s: F8, t: F8) -> [F8; 3] {
         let (w, h) = (self.0.width, self.0.height);
-        let (cols, fx) = neighbourhood8(s, w);
-        let (rows, fy) = neighbourhood8(t, h);
-        let row_starts = rows.map(|r| r * I8::splat(w as i32));
-        // The texels of row `r` (0..4: jm, j0, j1, j2) at column `c` (0..4: im, i0, i1, i2), per lane.
-        let texel = |r: usize, c: usize| gather(&self.0.texels, row_starts[r] + cols[c]);
+        let (texel, fx, fy) = self.neighbourhood_texels8(s, t);
         // The twelve texels of the 4x4 neighbourhood that the three lookups read (the corners are unused).
         let (r0m, r00, r01, r02) = (texel(1, 0), texel(1, 1), texel(1, 2), texel(1, 3));
         let (r1m, r10, r11, r12) = (texel(2, 0), texel(2, 1), texel(2, 2), texel(2, 3));
         let (rm0, rm1, r20, r21) = (texel(0, 1), texel(0, 2), texel(3, 1), texel(3, 2));
-        let lerp2 = |a: F8, b: F8, c: F8, d: F8| {
-            let bottom = a + fx * (b - a);
-            bottom + fy * (c + fx * (d - c) - bottom)
-        };
+        let lerp2 = |a: F8, b: F8, c: F8, d: F8| lerp2(fx, fy, a, b, c, d);
         let f = lerp2(r00, r01, r10, r11);
         let gs = lerp2(r01 - r0m, r02 - r00, r11 - r1m, r12 - r10) * F8::splat(w as f32 * 0.5);
         let gt = lerp2(r10 - rm0, r11 - rm1, r20 - r00, r21 - r01) * F8::splat(h as f32 * 0.5);
         [f, gs, gt]
     }
+}
+
+/// Bilinear interpolation with weights (fx, fy) between a, b (the lower row) and c, d (the upper).
+#[inline(always)]
+fn lerp2(fx: F8, fy: F8, a: F8, b: F8, c: F8, d: F8) -> F8 {
+    let bottom = a + fx * (b - a);
+    bottom + fy * (c + fx * (d - c) - bottom)
 }
 
 /// On eight lanes: the bilinear taps of `bilinear_taps` (i0, i1 and the weight of i1) with their outer
@@ -371,6 +399,12 @@ mod tests {
                     }
                 }
             }
+        }
+        // F alone, as a parallax march reads it, is the F of the full lookup to the bit.
+        let fp = Footprint8 { dudx: F8::splat(0.01), dvdx: F8::ZERO, dudy: F8::ZERO, dvdy: F8::splat(0.01) };
+        for filter in [Filter::Reconstruct(Kernel::Bilinear), Filter::Reconstruct(Kernel::Nearest), Filter::Trilinear] {
+            let opts = FilterOptions { filter, ..FilterOptions::default() };
+            assert_eq!(table.height8(s, t, &fp, &opts).to_array(), table.lookup8(s, t, &fp, &opts)[0].to_array());
         }
     }
 
