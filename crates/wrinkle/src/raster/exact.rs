@@ -1,9 +1,10 @@
 //! Exact coverage along the outline of a parametric surface. The tessellation is inscribed in the curved
 //! surface, so the flat triangles' outline on screen lies up to their sag (a quarter pixel) inside the
 //! surface's. The triangles along the outline are therefore widened on screen (`OUTLINE_MARGIN_PX`), and
-//! each sample they cover asks the exact surface whether its ray meets it: the sphere by its quadratic, the
-//! other surfaces by Newton's method on screen(P(u,v)) = sample position, started from the triangle's
-//! (u,v). Samples whose ray misses are given to what lies behind (the visibility buffer's `peel`).
+//! the samples they cover (at a fold all of them, along an open edge those of the margin) ask the exact
+//! surface whether their ray meets it: the sphere by its quadratic, the other surfaces by Newton's method on
+//! screen(P(u,v)) = sample position, started from the triangle's (u,v). Samples whose ray misses are given
+//! to what lies behind (the visibility buffer's `peel`).
 
 use super::camera::Camera;
 use super::refine::OnScreen8;
@@ -25,7 +26,9 @@ pub enum Outline {
     /// Inside: the flat triangle's samples are the surface's.
     #[default]
     Inside,
-    /// Along a curved open edge of the surface: the samples of the widened margin are tested.
+    /// Along a curved open edge of the surface: the samples of the widened margin are tested. The flat
+    /// triangle's own samples are taken as the surface's, which leaves up to the sag where the edge curves
+    /// in on screen.
     Edge,
     /// Where the surface turns away from the eye (or beside a pole): every sample is tested, since near a
     /// fold of a surface that is not convex the flat triangle may also reach beyond the surface.
