@@ -111,6 +111,15 @@ impl Surface {
             }
         }
     }
+
+    /// The scalar frames of the lanes `lanes` (bit i: lane i) at eight (u,v) into `frames`; the other lanes
+    /// keep theirs (a few samples of a packet need the surface, not all eight).
+    pub fn frames_of_lanes(&self, u: F8, v: F8, lanes: u8, frames: &mut [SurfaceFrame; LANES]) {
+        let (u, v) = (u.as_array_ref(), v.as_array_ref());
+        for (i, f) in frames.iter_mut().enumerate().filter(|(i, _)| lanes >> i & 1 == 1) {
+            *f = self.frame(u[i], v[i]);
+        }
+    }
 }
 
 /// sin_cos_turns on every lane: the same polynomial and octant reduction.

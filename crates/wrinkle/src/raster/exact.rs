@@ -79,11 +79,8 @@ pub fn frames_at(
     let frame = if let Surface::Sphere { .. } = surface {
         surface.frame8(uv.0, uv.1)
     } else {
-        let (u, v) = (uv.0.as_array_ref(), uv.1.as_array_ref());
         let mut frames = [SurfaceFrame::default(); LANES];
-        for i in (0..LANES).filter(|i| lanes >> i & 1 == 1) {
-            frames[i] = surface.frame(u[i], v[i]);
-        }
+        surface.frames_of_lanes(uv.0, uv.1, lanes, &mut frames);
         Frame8::from_lanes(&frames)
     };
     let duv = OnScreen8::of(camera, object_to_camera, &frame).uv_derivatives();
@@ -147,10 +144,7 @@ fn newton_hits(
     };
     let mut frames = [SurfaceFrame::default(); LANES];
     for _ in 0..NEWTON_STEPS {
-        let (uu, vv) = (u.as_array_ref(), v.as_array_ref());
-        for (i, f) in frames.iter_mut().enumerate().filter(|(i, _)| done >> i & 1 == 0) {
-            *f = surface.frame(uu[i], vv[i]);
-        }
+        surface.frames_of_lanes(u, v, !done, &mut frames);
         let at = OnScreen8::of(camera, object_to_camera, &Frame8::from_lanes(&frames));
         let (rx, ry) = (screen.0 - at.x, screen.1 - at.y);
         let close_now = (rx * rx + ry * ry).cmp_lt(close).move_mask() as u8 & !done;

@@ -528,7 +528,8 @@ impl TileJob<'_> {
     }
 
     /// The outline test of the tile's samples `candidates` that lie on outline triangles: those whose ray
-    /// misses the exact surface are pushed onto `missed`.
+    /// misses the exact surface are pushed onto `missed`; for the others the (u,v) where it meets the
+    /// surface is kept in `vis.exact_uv` for the shader.
     fn outline_test(&self, vis: &mut VisBuffer, candidates: &[usize], missed: &mut Vec<usize>) {
         self.packets_of(
             vis,
