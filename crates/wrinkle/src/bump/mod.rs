@@ -2,6 +2,7 @@
 //! and their evaluation at a sample (function.rs), and the generators of the paper's figures.
 
 pub mod blinn;
+pub mod displacement;
 pub mod function;
 pub mod generators;
 pub mod integrate;
@@ -12,6 +13,7 @@ pub mod table;
 pub mod tangent_space;
 
 pub use blinn::BumpFormula;
+pub use displacement::{Displacement, DisplacementMode};
 pub use function::{BumpMap, BumpSource};
 pub use parallax::{Crossing8, Parallax};
 pub use table::{BumpTable, Interp};

@@ -32,6 +32,17 @@ impl SurfaceFrame {
             ..*self
         }
     }
+
+    /// The unit normal Pu x Pv, or where it vanishes because an edge of the patch is drawn together into a
+    /// point (the teapot's lid knob and bottom, a sphere's poles) its limit along that edge, Puv x Pv or
+    /// Pu x Puv; zero where even that vanishes.
+    pub fn limit_normal(&self) -> Vec3 {
+        let scale = self.pu.length_squared().max(self.pv.length_squared()).max(f32::MIN_POSITIVE);
+        [self.pu.cross(self.pv), self.puv.cross(self.pv), self.pu.cross(self.puv)]
+            .into_iter()
+            .find(|n| n.length_squared() > 1e-12 * scale * scale)
+            .map_or(Vec3::ZERO, Vec3::normalize)
+    }
 }
 
 /// One parametric surface in its object space.

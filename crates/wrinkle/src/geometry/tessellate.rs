@@ -73,23 +73,11 @@ impl Mesh {
 }
 
 /// The surface as a model's triangle mesh: the grid of `nu` x `nv` quads with its (u,v) and the exact
-/// unit normal at every vertex. Where Pu x Pv vanishes because an edge of the patch is drawn together into
-/// a point (the teapot's lid knob and bottom, a sphere's poles), the normal is its limit along that edge,
-/// Puv x Pv or Pu x Puv; where even that vanishes the faces around the vertex decide.
+/// unit normal at every vertex (its limit where Pu x Pv vanishes, `SurfaceFrame::limit_normal`); where even
+/// that vanishes the faces around the vertex decide.
 pub fn triangle_mesh(surface: &Surface, nu: usize, nv: usize) -> TriangleMesh {
     let grid = grid(surface, nu, nv);
-    let normals = grid
-        .uvs
-        .iter()
-        .map(|uv| {
-            let f = surface.frame(uv.x, uv.y);
-            let scale = f.pu.length_squared().max(f.pv.length_squared()).max(f32::MIN_POSITIVE);
-            [f.pu.cross(f.pv), f.puv.cross(f.pv), f.pu.cross(f.puv)]
-                .into_iter()
-                .find(|n| n.length_squared() > 1e-12 * scale * scale)
-                .map_or(Vec3::ZERO, Vec3::normalize)
-        })
-        .collect();
+    let normals = grid.uvs.iter().map(|uv| surface.frame(uv.x, uv.y).limit_normal()).collect();
     let mut mesh = TriangleMesh {
         positions: grid.positions,
         normals,
@@ -105,15 +93,14 @@ pub fn triangle_mesh(surface: &Surface, nu: usize, nv: usize) -> TriangleMesh {
 /// and so that the flat triangles sag at most about `sag_px` pixels from the curved surface: the (u,v) the
 /// rasterizer interpolates then lands within that distance of the exact surface's.
 /// `pixels_per_unit(p)` gives the local screen scale at an object-space point (0 where it is not visible).
+/// A flat parallelogram needs one quad to be drawn (`Surface::is_parallelogram`), but gets segments by its
+/// length here, for what moves its points (displacement).
 pub fn segments_for(
     surface: &Surface,
     target_px: f32,
     sag_px: f32,
     pixels_per_unit: impl Fn(Vec3) -> f32,
 ) -> (usize, usize) {
-    if surface.is_parallelogram() {
-        return (1, 1);
-    }
     const K: usize = 16;
     let mut pts = Vec::with_capacity((K + 1) * (K + 1));
     for j in 0..=K {
@@ -222,7 +209,8 @@ mod tests {
         assert!((40..=48).contains(&nu), "{nu}");
         let sag = 20.0 * (1.0 - (std::f32::consts::PI / nu as f32).cos());
         assert!(sag < 0.06, "{sag}");
+        // A flat unit square 1000 px across: the length alone decides.
         let flat = Surface::Patch { corners: [Vec3::ZERO, Vec3::X, Vec3::X + Vec3::Y, Vec3::Y] };
-        assert_eq!(segments_for(&flat, 10.0, 0.05, |_| 1000.0), (1, 1));
+        assert_eq!(segments_for(&flat, 10.0, 0.05, |_| 1000.0), (100, 100));
     }
 }

@@ -1,6 +1,7 @@
 //! The driver: runs the pipeline for one frame (tessellate, set up, bin, then per tile: rasterize,
 //! shade, resolve) and reports the time of each stage.
 
+mod displace;
 mod frame;
 
 pub use frame::{Aovs, Frame, Stats, NO_PRIMITIVE};
@@ -108,24 +109,30 @@ pub fn render_with_progress(
     let camera = Camera::new(cam.eye, cam.look_at, cam.up, cam.projection, w as u32, h as u32);
 
     let t = Instant::now();
-    let instances = instances(scene, &camera, options.turntable_degrees);
+    let mut instances = instances(scene, &camera, options.turntable_degrees);
+    let mut diced = displace::displace(&mut instances, &scene.materials, &camera)?;
     let meshes: Vec<Triangles> = instances
         .par_iter()
-        .map(|inst| match &inst.primitive {
-            Primitive::Parametric(surface) => {
-                let (nu, nv) = segments_for(surface, SEGMENT_PX, SAG_PX, |p| {
-                    camera.pixels_per_unit(inst.object_to_world.transform_point3(p))
-                });
+        .zip(diced.par_iter_mut())
+        .map(|(inst, diced)| match (&inst.primitive, diced.take()) {
+            (_, Some(diced)) => Triangles::Diced(diced),
+            (Primitive::Parametric(surface), None) => {
+                let (nu, nv) = match surface.is_parallelogram() {
+                    true => (1, 1),
+                    false => segments_for(surface, SEGMENT_PX, SAG_PX, |p| {
+                        camera.pixels_per_unit(inst.object_to_world.transform_point3(p))
+                    }),
+                };
                 Triangles::Grid(grid(surface, nu, nv))
             }
-            Primitive::Mesh(mesh) => Triangles::Mesh(mesh),
+            (Primitive::Mesh(mesh), None) => Triangles::Mesh(mesh),
         })
         .collect();
     let max_steps: Vec<Vec2> = meshes
         .iter()
         .map(|m| match m {
             Triangles::Grid(g) => Vec2::new(1.0 / g.segments.0 as f32, 1.0 / g.segments.1 as f32),
-            Triangles::Mesh(_) => Vec2::ZERO,
+            Triangles::Mesh(_) | Triangles::Diced(_) => Vec2::ZERO,
         })
         .collect();
     stats.tessellate_ms = ms(t);
@@ -235,31 +242,32 @@ fn instances(scene: &Scene, camera: &Camera, turntable_degrees: f32) -> Vec<Inst
     out
 }
 
-/// The triangles the rasterizer draws for one instance: a parametric surface's tessellation, or a mesh's
-/// own triangles (borrowed, not copied).
+/// The triangles the rasterizer draws for one instance: a parametric surface's tessellation, a displaced
+/// one's diced triangles, or a mesh's own triangles (borrowed, not copied).
 enum Triangles<'a> {
     Grid(Mesh),
+    Diced(Mesh),
     Mesh(&'a TriangleMesh),
 }
 
 impl Triangles<'_> {
     fn positions(&self) -> &[Vec3] {
         match self {
-            Triangles::Grid(g) => &g.positions,
+            Triangles::Grid(g) | Triangles::Diced(g) => &g.positions,
             Triangles::Mesh(m) => &m.positions,
         }
     }
 
     fn uvs(&self) -> Option<&[Vec2]> {
         match self {
-            Triangles::Grid(g) => Some(&g.uvs),
+            Triangles::Grid(g) | Triangles::Diced(g) => Some(&g.uvs),
             Triangles::Mesh(m) => m.uvs(0),
         }
     }
 
     fn triangles(&self) -> &[[u32; 3]] {
         match self {
-            Triangles::Grid(g) => &g.triangles,
+            Triangles::Grid(g) | Triangles::Diced(g) => &g.triangles,
             Triangles::Mesh(m) => &m.triangles,
         }
     }
@@ -470,14 +478,16 @@ impl TileJob<'_> {
         let samples = match &inst.primitive {
             Primitive::Parametric(surface) => {
                 let max_step = self.max_steps[packet.surface as usize];
-                // Affine (u,v) name the surface off the sample's ray: no step moves them onto it.
-                let (uv, max_step) = if inst.affine {
-                    (affine_uv8(self.camera, surface, &inst.object_to_camera, &tris, (sx, sy)), Vec2::ZERO)
-                } else {
-                    (at.uv, max_step)
+                // Affine (u,v) name the surface off the sample's ray: no step moves them onto it. Nor do
+                // diced ones (no steps): the ray meets the displaced surface, not P(u,v).
+                let uv = match inst.affine {
+                    true => affine_uv8(self.camera, surface, &inst.object_to_camera, &tris, (sx, sy)),
+                    false => at.uv,
                 };
-                let (mut uv, mut frame) =
-                    refine_uv8(self.camera, surface, &inst.object_to_camera, uv, (sx, sy), max_step);
+                let (mut uv, mut frame) = match inst.affine || max_step == Vec2::ZERO {
+                    true => (uv, surface.frame8(uv.0, uv.1)),
+                    false => refine_uv8(self.camera, surface, &inst.object_to_camera, uv, (sx, sy), max_step),
+                };
                 let mut duv = at.duv;
                 // Along the outline the exact surface's point on the ray replaces the one Newton step.
                 let outline = if vis.outline { tested_lanes(tris.map(|t| t.outline), at.bary, packet.len) } else { 0 };

@@ -9,7 +9,7 @@ use super::texture::{load_texture, parse_normal_map, parse_texture, Role};
 use super::{CameraDesc, Object, Scene};
 use crate::bump::function::filter_choices;
 use crate::bump::generators::{BrickParams, Generator, GridParams, RivetParams, TextParams};
-use crate::bump::{BumpFormula, BumpMap, BumpSource, BumpTable, Parallax};
+use crate::bump::{BumpFormula, BumpMap, BumpSource, BumpTable, Displacement, DisplacementMode, Parallax};
 use crate::geometry::{MeshPart, Shape, Surface, Transform};
 use crate::image::io;
 use crate::light::Light;
@@ -362,6 +362,7 @@ const MATERIAL_FIELDS: &[&str] = &[
     "emission",
     "alpha_mode",
     "alpha_cutoff",
+    "displacement",
 ];
 
 /// A material table; the fields it gives replace those of `under` (the default material, or the one a
@@ -394,6 +395,17 @@ fn parse_material(path: &str, v: &Value, base: &Path, under: Material) -> Result
             (material.bump, material.normal_map) = (None, Some(parse_normal_map(&f.at("normal_map"), n, &f, base)?))
         }
         (None, None) => {}
+    }
+    if let Some(d) = f.get("displacement") {
+        material.displacement = Some(parse_displacement(&f.at("displacement"), d, base)?);
+    }
+    if material.displacement.is_some() {
+        if material.normal_map.is_some() {
+            return Err(Error::scene(f.at("displacement"), "a normal map over a displaced surface is not built: give a bump (its F is added to the displacement's) or neither"));
+        }
+        if material.bump.as_ref().is_some_and(|b| b.parallax.is_some()) {
+            return Err(Error::scene(f.at("bump.parallax"), "marches a flat surface's height field: not with a displacement"));
+        }
     }
     material.color = colour(&f, "color", material.color)?;
     material.emission = colour(&f, "emission", material.emission)?;
@@ -444,27 +456,18 @@ pub(super) fn uv_transform(f: &Fields) -> Result<UvTransform> {
     Ok(UvTransform::new(offset, f.number_or("rotate", 0.0)?, r))
 }
 
+/// The fields of a bump table that say what F is and where it lies (a displacement's too).
+const BUMP_SOURCE_FIELDS: &[&str] =
+    &["map", "generator", "procedural", "scale", "repeat", "offset", "rotate", "mapping", "interp", "filter"];
+
+/// What a bump adds to its source: offset maps, the formula and parallax.
+const BUMP_ONLY_FIELDS: &[&str] = &["offsets", "invariant", "formula", "parallax"];
+
+/// What a displacement adds to the source of its F.
+const DISPLACEMENT_FIELDS: &[&str] = &["mode", "threshold", "edge_px"];
+
 fn parse_bump(path: &str, v: &Value, base: &Path) -> Result<BumpMap> {
-    let f = Fields::new(
-        path,
-        v,
-        &[
-            "map",
-            "generator",
-            "procedural",
-            "offsets",
-            "scale",
-            "repeat",
-            "offset",
-            "rotate",
-            "mapping",
-            "interp",
-            "invariant",
-            "formula",
-            "filter",
-            "parallax",
-        ],
-    )?;
+    let f = Fields::new(path, v, &[BUMP_SOURCE_FIELDS, BUMP_ONLY_FIELDS].concat())?;
     // A table's image, the procedural pattern's fields, or an offset map's file.
     enum Source<'a> {
         Image(crate::image::GreyImage),
@@ -531,6 +534,35 @@ fn parse_bump(path: &str, v: &Value, base: &Path) -> Result<BumpMap> {
         filter: FilterOptions { filter: bump_filter(&f)?, ..FilterOptions::default() },
         parallax,
     })
+}
+
+/// `displacement = { map | generator | procedural, scale, repeat, ..., mode = "full" | "silhouette",
+/// threshold, edge_px }`: F as a bump's, the surface moved by it, shaded with the full formula.
+fn parse_displacement(path: &str, v: &Value, base: &Path) -> Result<Displacement> {
+    let f = Fields::new(path, v, &[BUMP_SOURCE_FIELDS, DISPLACEMENT_FIELDS].concat())?;
+    let mut source = v.as_table().expect("Fields::new checked it is a table").clone();
+    for key in DISPLACEMENT_FIELDS {
+        source.remove(*key);
+    }
+    let mut map = parse_bump(path, &Value::Table(source), base)?;
+    map.formula = BumpFormula::Full;
+    let silhouette = f.choice("mode", false, &[("full", false), ("silhouette", true)])?;
+    let in_unit = |x: f32| x > 0.0 && x <= 1.0;
+    let mode = match silhouette {
+        true => DisplacementMode::Silhouette {
+            threshold: f.number_where("threshold", Some(Displacement::THRESHOLD), in_unit, "a number above 0, at most 1")?,
+        },
+        false if f.get("threshold").is_some() => {
+            return Err(Error::scene(f.at("threshold"), "applies to mode = \"silhouette\" only"))
+        }
+        false => DisplacementMode::Full,
+    };
+    let (finest, coarsest) = Displacement::EDGE_PX;
+    let edge_px = f.number_or("edge_px", 1.0)?;
+    if !(finest..=coarsest).contains(&edge_px) {
+        return Err(Error::scene(f.at("edge_px"), format!("expected pixels from {finest} to {coarsest}, got {edge_px}")));
+    }
+    Ok(Displacement { map, mode, edge_px })
 }
 
 /// `parallax = { steps = 32, depth_replace = false }`: the march of parallax occlusion mapping.

@@ -1,9 +1,9 @@
 //! Materials: a diffuse colour, opacity and emission, Blinn-Phong specular, texture layers over them, an
-//! optional bump map or tangent-space normal map, and how alpha is used.
+//! optional bump map or tangent-space normal map, an optional displacement, and how alpha is used.
 
 use super::layer::{Layer, Mode, Target};
 use super::phong::Phong;
-use crate::bump::{BumpMap, TangentNormalMap};
+use crate::bump::{BumpMap, Displacement, TangentNormalMap};
 use crate::mapping::{MappedTexture, Mapping, Projection};
 use glam::Vec3;
 
@@ -32,6 +32,8 @@ pub struct Material {
     pub bump: Option<BumpMap>,
     /// A tangent-space normal map (instead of a bump map).
     pub normal_map: Option<TangentNormalMap>,
+    /// Moves the surface itself; its F also shades (with a bump's added).
+    pub displacement: Option<Displacement>,
 }
 
 impl Default for Material {
@@ -46,6 +48,7 @@ impl Default for Material {
             alpha_mode: AlphaMode::Opaque,
             bump: None,
             normal_map: None,
+            displacement: None,
         }
     }
 }
@@ -93,17 +96,19 @@ impl Material {
         }
     }
 
-    /// The mappings of every texture the material reads (layers, normal map, bump).
+    /// The mappings of every texture the material reads (layers, normal map, bump, displacement).
     pub fn mappings_mut(&mut self) -> impl Iterator<Item = &mut Mapping> {
         let layers = self.layers.iter_mut().map(|l| &mut l.source.mapping);
         let normal_map = self.normal_map.as_mut().map(|m| &mut m.texture.mapping);
-        layers.chain(normal_map).chain(self.bump.as_mut().map(|b| &mut b.mapping))
+        let displacement = self.displacement.as_mut().map(|d| &mut d.map.mapping);
+        layers.chain(normal_map).chain(self.bump.as_mut().map(|b| &mut b.mapping)).chain(displacement)
     }
 
     fn projections(&self) -> impl Iterator<Item = &Projection> {
         let layers = self.layers.iter().map(|l| &l.source.mapping.projection);
         let normal_map = self.normal_map.as_ref().map(|m| &m.texture.mapping.projection);
-        layers.chain(normal_map).chain(self.bump.as_ref().map(|b| &b.mapping.projection))
+        let displacement = self.displacement.as_ref().map(|d| &d.map.mapping.projection);
+        layers.chain(normal_map).chain(self.bump.as_ref().map(|b| &b.mapping.projection)).chain(displacement)
     }
 
     /// Whether a mapping follows the normal, so the shader must work out its change across the pixel.

@@ -11,7 +11,7 @@ pub use material::{AlphaMode, Material};
 pub use phong::Phong;
 
 use crate::bump::blinn::{perturbed_normal8, perturbed_normal_sided8};
-use crate::bump::BumpMap;
+use crate::bump::{BumpFormula, BumpMap, DisplacementMode};
 use crate::geometry::frame_lanes::Frame8;
 use crate::geometry::mesh_lanes::MeshFrame8;
 use crate::geometry::Instance;
@@ -196,14 +196,19 @@ impl ShadeContext<'_> {
         let surface = self.surface(inst, at);
         let n_geo = surface.n;
         let (ctx, travel) = self.lookup_context(inst, material, &surface, at);
-        let n_obj = match (&material.bump, &material.normal_map, self.bump_enabled) {
-            (Some(bump), _, true) => {
-                let g = bump.eval8(&ctx, &self.bump_filter_of(bump));
-                match &at.mesh {
-                    None => perturbed_normal8(frame, g, bump.formula),
-                    Some(m) => perturbed_normal_sided8(frame.pu, frame.pv, g, bump.formula, m.side),
-                }
-            }
+        // A displacement's F shades too (the displaced surface's own normal), with a bump's F added.
+        let bump = material.bump.as_ref().filter(|_| self.bump_enabled).map(|b| (b.eval8(&ctx, &self.bump_filter_of(b)), b.formula));
+        let displaced = material.displacement.as_ref().map(|d| d.map.eval8(&ctx, &d.map.filter));
+        let gradient = match (displaced, bump) {
+            (Some(d), Some((b, _))) => Some((std::array::from_fn(|k| d[k] + b[k]), BumpFormula::Full)),
+            (Some(d), None) => Some((d, BumpFormula::Full)),
+            (None, bump) => bump,
+        };
+        let n_obj = match (gradient, &material.normal_map, self.bump_enabled) {
+            (Some((g, formula)), _, _) => match &at.mesh {
+                None => perturbed_normal8(frame, g, formula),
+                Some(m) => perturbed_normal_sided8(frame.pu, frame.pv, g, formula, m.side),
+            },
             (None, Some(map), true) => {
                 let n = n_geo.normalize_or_zero();
                 match &at.mesh {
@@ -213,7 +218,21 @@ impl ShadeContext<'_> {
             }
             _ => n_geo,
         };
-        let position = V3::transform_point(&inst.object_to_world, frame.p);
+        let mut position = V3::transform_point(&inst.object_to_world, frame.p);
+        if let (Some(d), Some(g), None) = (&material.displacement, displaced, &at.mesh) {
+            // The sample lies on the displaced surface, F (times its weight) along the unit normal (a
+            // mesh's sample is already on its displaced triangle).
+            let n_unit = n_geo.normalize_or_zero();
+            let weight = match self.ortho_to_eye {
+                _ if d.mode == DisplacementMode::Full => F8::ONE,
+                Some(e) => d.weight8(V3::mul_mat3(&inst.normal_matrix, n_unit).normalize_or_zero().dot(V3::splat(e)).abs()),
+                None => {
+                    let to_eye = (V3::splat(self.eye) - position).normalize_or_zero();
+                    d.weight8(V3::mul_mat3(&inst.normal_matrix, n_unit).normalize_or_zero().dot(to_eye).abs())
+                }
+            };
+            position = V3::transform_point(&inst.object_to_world, frame.p + n_unit * (g[0] * weight));
+        }
         let (to_eye, depth) = match self.ortho_to_eye {
             Some(d) => (V3::splat(d), (V3::splat(self.eye) - position).dot(V3::splat(d))),
             None => {

@@ -1,0 +1,619 @@
+//! Dicing for displacement mapping (Lingard): the triangles of a coarse base tessellation are cut into
+//! triangles about a pixel across, and every vertex is moved along the surface's normal by its height.
+//!
+//! Crack-free by construction. Each base edge gets one rate (its length on screen over the target edge
+//! length), worked out once, so the triangles on either side cut it at the same points; a triangle's inner
+//! grid takes its longest edge's rate and snaps its border onto its edges' points. Positions belong to
+//! welded vertices (corners that are one point: a seam, a pole, a mesh's split vertices, the shared sides
+//! of a box's faces), and a welded vertex's height and direction are the mean over the triangles around it,
+//! so all of them move it to the same place. Attributes ((u,v), normals) belong to the base's own vertices,
+//! so a texture seam keeps both of its sides.
+
+use glam::{Vec2, Vec3};
+use rayon::prelude::*;
+use std::collections::HashMap;
+
+/// The most cuts of one base edge.
+pub const MAX_RATE: u32 = 1024;
+
+/// A point of the base: its triangle and its barycentric weights on the triangle's three corners.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BasePoint {
+    pub triangle: u32,
+    pub bary: [f32; 3],
+}
+
+/// The surface under the base at one point, as the dicer needs it.
+#[derive(Clone, Copy, Debug)]
+pub struct DiceSample {
+    /// The undisplaced point (object space).
+    pub p: Vec3,
+    /// The unit direction of the displacement.
+    pub normal: Vec3,
+    /// How far the point moves along `normal`.
+    pub height: f32,
+    /// Why the surface here needs no dicing, as bits (`Skip`); an edge whose points share one is left whole.
+    pub skip: u8,
+}
+
+/// Reasons a point needs no dicing, as bits of `DiceSample::skip`.
+pub struct Skip;
+
+impl Skip {
+    /// Not displaced (silhouette mode away from the outline).
+    pub const FLAT: u8 = 1;
+    /// On a culled surface, facing away well beyond the outline.
+    pub const FACING_AWAY: u8 = 2;
+    /// Off the screen past its left, right, top or bottom side (by a margin).
+    pub const LEFT: u8 = 4;
+    pub const RIGHT: u8 = 8;
+    pub const TOP: u8 = 16;
+    pub const BOTTOM: u8 = 32;
+}
+
+/// What the dicer reads of the surface under its base triangles.
+pub trait DiceSurface: Sync {
+    fn sample(&self, at: BasePoint) -> DiceSample;
+    /// Where an object-space point lands on the screen (pixels), if it is in front of the eye.
+    fn screen(&self, p: Vec3) -> Option<Vec2>;
+    /// Screen pixels per object-space unit near an object-space point (0 behind the eye).
+    fn pixels_per_unit(&self, p: Vec3) -> f32;
+}
+
+/// How long a curve through `points` is on screen (pixels): measured on screen where all of them are in
+/// front of the eye, else in the object at the largest scale of those that are.
+fn screen_length(surface: &impl DiceSurface, points: &[Vec3]) -> f32 {
+    let on_screen: Option<Vec<Vec2>> = points.iter().map(|&p| surface.screen(p)).collect();
+    match on_screen {
+        Some(s) => s.windows(2).map(|w| w[0].distance(w[1])).sum(),
+        None => {
+            let ppu = points.iter().map(|&p| surface.pixels_per_unit(p)).fold(0.0, f32::max);
+            points.windows(2).map(|w| w[0].distance(w[1])).sum::<f32>() * ppu
+        }
+    }
+}
+
+/// The base to dice: faces over vertices, each vertex also known by its welded number.
+pub struct Base<'a> {
+    pub faces: &'a [Face],
+    /// Per vertex, its welded number: vertices at one point share it.
+    pub weld: &'a [u32],
+    /// The number of welded vertices.
+    pub welded: usize,
+}
+
+/// A face of the base: a triangle, or a quad (a cell of a parametric surface's grid, diced with a rate of
+/// its own along each direction, so a cell seen edge-on is not cut finely across) made of two triangles.
+/// Points on it are named by the base triangles they lie in, which carry the attributes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Face {
+    /// Counter-clockwise; a triangle's fourth is unused.
+    pub corners: [u32; 4],
+    pub sides: u8,
+    /// Its base triangle: a triangle's own corners; for a quad [a, b, c, d], [a, b, c] and the next one
+    /// [a, c, d].
+    pub triangle: u32,
+}
+
+impl Face {
+    pub fn triangle(corners: [u32; 3], triangle: u32) -> Face {
+        let [a, b, c] = corners;
+        Face { corners: [a, b, c, c], sides: 3, triangle }
+    }
+
+    pub fn quad(corners: [u32; 4], first_triangle: u32) -> Face {
+        Face { corners, sides: 4, triangle: first_triangle }
+    }
+
+    fn corner(&self, k: usize) -> u32 {
+        self.corners[k % self.sides as usize]
+    }
+
+    /// The base point at (s, t): a triangle's point with weights (1 - s - t, s, t) on its corners; a quad's
+    /// at s along a -> b and t along a -> d.
+    fn point(&self, s: f32, t: f32) -> BasePoint {
+        match self.sides {
+            3 => BasePoint { triangle: self.triangle, bary: [1.0 - s - t, s, t] },
+            _ if s >= t => BasePoint { triangle: self.triangle, bary: [1.0 - s, s - t, t] },
+            _ => BasePoint { triangle: self.triangle + 1, bary: [1.0 - t, s, t - s] },
+        }
+    }
+
+    /// The base point `x` of the way along edge `k`, from corner k to the next.
+    fn on_edge(&self, k: u8, x: f32) -> BasePoint {
+        let (s, t) = match (self.sides, k) {
+            (3, 0) | (4, 0) => (x, 0.0),
+            (3, 1) => (1.0 - x, x),
+            (3, _) => (0.0, 1.0 - x),
+            (_, 1) => (1.0, x),
+            (_, 2) => (1.0 - x, 1.0),
+            _ => (0.0, 1.0 - x),
+        };
+        self.point(s, t)
+    }
+
+    fn at_corner(&self, k: u8) -> BasePoint {
+        self.on_edge(k, 0.0)
+    }
+}
+
+/// The diced surface: vertices (displaced positions and the base point each one's attributes come from)
+/// and triangles over them, counter-clockwise like the base.
+#[derive(Clone, Debug, Default)]
+pub struct Diced {
+    pub positions: Vec<Vec3>,
+    pub sources: Vec<BasePoint>,
+    pub triangles: Vec<[u32; 3]>,
+    /// Per triangle, the base face it was cut from.
+    pub origins: Vec<u32>,
+}
+
+/// An edge of the base, as a pair of vertex numbers, smaller first.
+type EdgeKey = (u32, u32);
+
+fn key(a: u32, b: u32) -> EdgeKey {
+    (a.min(b), a.max(b))
+}
+
+/// Numbers the edges of `faces` (over vertex numbers `of`): each face's edges k -> k+1, the edges' ends,
+/// and their first two faces as (face, edge within it).
+struct Edges {
+    of_face: Vec<[u32; 4]>,
+    ends: Vec<EdgeKey>,
+    users: Vec<[(u32, u8); 2]>,
+}
+
+impl Edges {
+    /// Faces that are not `alive` have no edges (their `of_face` is unused).
+    fn new(faces: &[Face], alive: &[bool], of: impl Fn(u32) -> u32) -> Edges {
+        let mut index: HashMap<EdgeKey, u32> = HashMap::with_capacity(faces.len() * 2);
+        let mut edges = Edges { of_face: Vec::with_capacity(faces.len()), ends: Vec::new(), users: Vec::new() };
+        for (f, face) in faces.iter().enumerate() {
+            let mut ids = [0; 4];
+            if alive[f] {
+                for k in 0..face.sides as usize {
+                    let ends = key(of(face.corner(k)), of(face.corner(k + 1)));
+                    let user = (f as u32, k as u8);
+                    ids[k] = *index.entry(ends).or_insert_with(|| {
+                        edges.ends.push(ends);
+                        edges.users.push([user; 2]);
+                        edges.ends.len() as u32 - 1
+                    });
+                    let users = &mut edges.users[ids[k] as usize];
+                    if users[0] != user {
+                        users[1] = user;
+                    }
+                }
+            }
+            edges.of_face.push(ids);
+        }
+        edges
+    }
+}
+
+/// The mean of samples of one point seen from several faces: the first one's point, the mean height and
+/// direction, and the reasons to skip it they all share.
+fn mean(samples: impl Iterator<Item = DiceSample>) -> DiceSample {
+    let (mut first, mut normal, mut height, mut count) = (None, Vec3::ZERO, 0.0, 0.0);
+    for s in samples {
+        let f = first.get_or_insert(s);
+        f.skip &= s.skip;
+        normal += s.normal;
+        height += s.height;
+        count += 1.0;
+    }
+    let first = first.expect("a point of at least one face");
+    DiceSample { normal: normal.normalize_or_zero(), height: height / count, ..first }
+}
+
+fn displaced(s: &DiceSample) -> Vec3 {
+    s.p + s.normal * s.height
+}
+
+/// The inner grid of a face: a triangle's n cuts along every side, a quad's (along a -> b, along a -> d).
+fn grid_of(face: &Face, rates: [u32; 4]) -> (u32, u32) {
+    match face.sides {
+        3 => {
+            let n = rates[..3].iter().copied().max().unwrap_or(1);
+            (n, n)
+        }
+        _ => (rates[0].max(rates[2]), rates[1].max(rates[3])),
+    }
+}
+
+/// Dices `base` so that edges are about `edge_px` pixels long on screen where the surface is displaced and
+/// may be seen (single base edges elsewhere). Refuses (naming the count) to make more than `max_triangles`.
+pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles: usize) -> Result<Diced, usize> {
+    let faces = base.faces;
+    let weld = |v: u32| base.weld[v as usize];
+    // Faces with fewer than three corners at distinct points (a pole's triangles) cover nothing.
+    let alive: Vec<bool> = faces
+        .iter()
+        .map(|f| {
+            let w: Vec<u32> = (0..f.sides as usize).map(|k| weld(f.corner(k))).collect();
+            let distinct = (0..w.len()).filter(|&k| !w[..k].contains(&w[k])).count();
+            distinct >= 3
+        })
+        .collect();
+    // Positions: welded vertices and welded edges, each sampled from every face around it.
+    let welded_edges = Edges::new(faces, &alive, weld);
+    let mut corner_users: Vec<Vec<(u32, u8)>> = vec![Vec::new(); base.welded];
+    for (f, face) in faces.iter().enumerate().filter(|&(f, _)| alive[f]) {
+        for k in 0..face.sides {
+            corner_users[weld(face.corner(k as usize)) as usize].push((f as u32, k));
+        }
+    }
+    let corners: Vec<DiceSample> = corner_users
+        .par_iter()
+        .map(|users| {
+            if users.is_empty() {
+                // Only on faces left out: never a vertex of the result.
+                return DiceSample { p: Vec3::ZERO, normal: Vec3::ZERO, height: 0.0, skip: 0 };
+            }
+            mean(users.iter().map(|&(f, k)| surface.sample(faces[f as usize].at_corner(k))))
+        })
+        .collect();
+    let rates: Vec<u32> = welded_edges
+        .ends
+        .par_iter()
+        .zip(&welded_edges.users)
+        .map(|(&(a, b), &[(f, k), _])| {
+            let (a, b) = (&corners[a as usize], &corners[b as usize]);
+            let mid = surface.sample(faces[f as usize].on_edge(k, 0.5));
+            // All three off the same side of the screen, all facing away, or all flat: the faces on both
+            // sides are left whole along it (a face whose edges are all out on one side lies out there).
+            if a.skip & b.skip & mid.skip != 0 {
+                return 1;
+            }
+            // On screen, so that edges seen edge-on (near the outline, where silhouette mode dices) are cut
+            // as finely as they show, not as long as they are.
+            let along = screen_length(surface, &[a.p, mid.p, b.p]);
+            let chord = screen_length(surface, &[displaced(a), displaced(b)]);
+            let px = along.max(chord) / edge_px;
+            if px.is_finite() { (px.ceil() as u32).clamp(1, MAX_RATE) } else { 1 }
+        })
+        .collect();
+    let grids: Vec<(u32, u32)> = faces
+        .iter()
+        .zip(&welded_edges.of_face)
+        .zip(&alive)
+        .map(|((face, e), &alive)| if alive { grid_of(face, e.map(|e| rates[e as usize])) } else { (0, 0) })
+        .collect();
+    let count: u64 = faces
+        .iter()
+        .zip(&grids)
+        .map(|(f, &(n, m))| u64::from(n) * u64::from(m) * if f.sides == 3 { 1 } else { 2 })
+        .sum();
+    if count > max_triangles as u64 {
+        return Err(count.min(usize::MAX as u64) as usize);
+    }
+    // The points along each welded edge, from its smaller welded end.
+    let edge_points: Vec<Vec<Vec3>> = welded_edges
+        .ends
+        .par_iter()
+        .zip(&welded_edges.users)
+        .zip(&rates)
+        .map(|((&(a, _), users), &rate)| {
+            (1..rate)
+                .map(|j| {
+                    let s = j as f32 / rate as f32;
+                    let seen = users.iter().map(|&(f, k)| {
+                        // The user's edge runs from its corner k; the points run from the smaller end.
+                        let face = &faces[f as usize];
+                        let forward = weld(face.corner(k as usize)) == a;
+                        surface.sample(face.on_edge(k, if forward { s } else { 1.0 - s }))
+                    });
+                    displaced(&mean(seen))
+                })
+                .collect()
+        })
+        .collect();
+    // Vertices: the base's own (at their welded position), then the points of its own edges, then each
+    // face's inner points.
+    let edges = Edges::new(faces, &alive, |v| v);
+    let mut diced = Diced::default();
+    for v in 0..base.weld.len() {
+        diced.positions.push(displaced(&corners[weld(v as u32) as usize]));
+    }
+    diced.sources = vec![BasePoint { triangle: 0, bary: [1.0, 0.0, 0.0] }; base.weld.len()];
+    for (face, _) in faces.iter().zip(&alive).filter(|(_, &alive)| alive) {
+        for k in 0..face.sides {
+            diced.sources[face.corner(k as usize) as usize] = face.at_corner(k);
+        }
+    }
+    let mut edge_first = Vec::with_capacity(edges.ends.len());
+    for (e, &(a, b)) in edges.ends.iter().enumerate() {
+        edge_first.push(diced.positions.len() as u32);
+        let [(f, k), _] = edges.users[e];
+        let face = &faces[f as usize];
+        let w = welded_edges.of_face[f as usize][k as usize] as usize;
+        let points = &edge_points[w];
+        // This edge runs from vertex a; the welded points run from the smaller welded end.
+        let same_way = weld(a) == welded_edges.ends[w].0 || weld(a) == weld(b);
+        let forward = face.corner(k as usize) == a;
+        let rate = rates[w];
+        for j in 1..rate {
+            let s = j as f32 / rate as f32;
+            diced.positions.push(points[if same_way { j - 1 } else { rate - j - 1 } as usize]);
+            diced.sources.push(face.on_edge(k, if forward { s } else { 1.0 - s }));
+        }
+    }
+    // The inner points and triangles of each face, in parallel, numbered afterwards.
+    let shared = &diced.positions;
+    let parts: Vec<(Vec<Vec3>, Vec<BasePoint>, Vec<[u32; 3]>)> = (0..faces.len())
+        .into_par_iter()
+        .map(|f| {
+            let (n, m) = grids[f];
+            if n == 0 {
+                return Default::default();
+            }
+            let face = &faces[f];
+            let (own, welded) = (edges.of_face[f], welded_edges.of_face[f]);
+            let quad = face.sides == 4;
+            let (mut points, mut sources) = (Vec::new(), Vec::new());
+            // Grid vertex (i, j) lies at (i / n, j / m) in the face's (s, t). Inner ones are numbered from
+            // u32::MAX downwards until the face's first inner vertex is known.
+            let mut ids = Vec::with_capacity(((n + 1) * (m + 1)) as usize);
+            let mut starts = Vec::with_capacity(m as usize + 1);
+            for j in 0..=m {
+                starts.push(ids.len());
+                let last = if quad { n } else { n - j };
+                for i in 0..=last {
+                    // The side the point lies on, and how far along it (in grid steps, of how many).
+                    let side = match (quad, i, j) {
+                        (_, _, 0) => Some((0, i, n)),
+                        (true, _, _) if i == n => Some((1, j, m)),
+                        (true, _, _) if j == m => Some((2, n - i, n)),
+                        (true, 0, _) => Some((3, m - j, m)),
+                        (false, _, _) if i + j == n => Some((1, j, n)),
+                        (false, 0, _) => Some((2, n - j, n)),
+                        _ => None,
+                    };
+                    let id = match side {
+                        Some((k, s, of)) => {
+                            snapped(face, k, s, of, rates[welded[k] as usize], &edges, own[k], &edge_first)
+                        }
+                        None => {
+                            let at = face.point(i as f32 / n as f32, j as f32 / m as f32);
+                            points.push(displaced(&surface.sample(at)));
+                            sources.push(at);
+                            u32::MAX - (points.len() as u32 - 1)
+                        }
+                    };
+                    ids.push(id);
+                }
+            }
+            let id = |i: u32, j: u32| ids[starts[j as usize] + i as usize];
+            let position = |v: u32| if v > u32::MAX / 2 { points[(u32::MAX - v) as usize] } else { shared[v as usize] };
+            let mut out = Vec::with_capacity((2 * n * m) as usize);
+            // Cells whose corners snapped together (or lie at one welded point, as at a pole) are dropped.
+            let mut push = |c: [u32; 3]| {
+                let [a, b, c2] = c.map(|v| position(v).to_array().map(f32::to_bits));
+                if a != b && b != c2 && c2 != a {
+                    out.push(c);
+                }
+            };
+            for j in 0..m {
+                match quad {
+                    true => {
+                        for i in 0..n {
+                            push([id(i, j), id(i + 1, j), id(i + 1, j + 1)]);
+                            push([id(i, j), id(i + 1, j + 1), id(i, j + 1)]);
+                        }
+                    }
+                    false => {
+                        for i in 0..n - j {
+                            push([id(i, j), id(i + 1, j), id(i, j + 1)]);
+                            if i + j + 2 <= n {
+                                push([id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+                            }
+                        }
+                    }
+                }
+            }
+            (points, sources, out)
+        })
+        .collect();
+    for (f, (points, sources, triangles)) in parts.into_iter().enumerate() {
+        let first = diced.positions.len() as u32;
+        diced.positions.extend(points);
+        diced.sources.extend(sources);
+        let renumber = |v: u32| if v > u32::MAX / 2 { first + (u32::MAX - v) } else { v };
+        diced.origins.extend(std::iter::repeat_n(f as u32, triangles.len()));
+        diced.triangles.extend(triangles.into_iter().map(|c| c.map(renumber)));
+    }
+    Ok(diced)
+}
+
+/// The vertex that grid point `s` of `n` along edge `k` of `face` snaps to: one of the edge's
+/// `rate` - 1 points or an end, the nearest. Since `rate` <= `n`, consecutive grid points snap to the same or
+/// consecutive points (no edge point is skipped), and a corner's first cells reach at most two grid steps
+/// along its edges, so they never turn over.
+fn snapped(face: &Face, k: usize, s: u32, n: u32, rate: u32, edges: &Edges, edge: u32, first: &[u32]) -> u32 {
+    let (from, to) = (face.corner(k), face.corner(k + 1));
+    let q = (2 * s * rate + n) / (2 * n);
+    if q == 0 {
+        return from;
+    }
+    if q == rate {
+        return to;
+    }
+    // The edge's own points run from its smaller vertex.
+    let from_smaller = edges.ends[edge as usize].0 == from && from != to;
+    first[edge as usize] + if from_smaller { q - 1 } else { rate - q - 1 }
+}
+
+/// Welds vertices closer than `tolerance` (and bit-equal ones): each vertex's welded number, and the count.
+pub fn weld(positions: &[Vec3], tolerance: f32) -> (Vec<u32>, usize) {
+    let cell = tolerance.max(f32::MIN_POSITIVE);
+    let at = |p: Vec3| (p / cell).floor().as_ivec3();
+    let mut grid: HashMap<glam::IVec3, Vec<u32>> = HashMap::with_capacity(positions.len());
+    let (mut numbers, mut reps) = (Vec::with_capacity(positions.len()), Vec::<Vec3>::new());
+    for &p in positions {
+        let c = at(p);
+        let mut found = None;
+        'search: for dz in -1..=1 {
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    if let Some(list) = grid.get(&(c + glam::IVec3::new(dx, dy, dz))) {
+                        if let Some(&w) = list.iter().find(|&&w| reps[w as usize].distance(p) <= tolerance) {
+                            found = Some(w);
+                            break 'search;
+                        }
+                    }
+                }
+            }
+        }
+        let w = found.unwrap_or_else(|| {
+            reps.push(p);
+            grid.entry(c).or_default().push(reps.len() as u32 - 1);
+            reps.len() as u32 - 1
+        });
+        numbers.push(w);
+    }
+    (numbers, reps.len())
+}
+
+/// The (u,v) at a base point, from the triangle's corners' `uvs`.
+pub fn interpolate<T: Copy + std::ops::Mul<f32, Output = T> + std::ops::Add<Output = T>>(
+    corners: [T; 3],
+    bary: [f32; 3],
+) -> T {
+    corners[0] * bary[0] + corners[1] * bary[1] + corners[2] * bary[2]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::tessellate::grid;
+    use crate::geometry::Surface;
+
+    /// A surface under a base mesh: points interpolated on the flat base triangles, heights from a function
+    /// of the position, and a screen scale that makes rates vary from edge to edge.
+    struct Flat<'a> {
+        surface: &'a Surface,
+        positions: &'a [Vec3],
+        triangles: &'a [[u32; 3]],
+        height: fn(Vec3) -> f32,
+        ppu: fn(Vec3) -> f32,
+    }
+
+    /// The outward direction at a point near a unit sphere at the origin or a torus of major radius 1
+    /// around y (from the nearest point of its ring), by the shape of the base.
+    fn outward(surface: &Surface, p: Vec3) -> Vec3 {
+        match surface {
+            Surface::Torus { .. } => (p - Vec3::new(p.x, 0.0, p.z).normalize()).normalize(),
+            _ => p.normalize(),
+        }
+    }
+
+    impl Flat<'_> {
+        fn outward(&self, p: Vec3) -> Vec3 {
+            outward(self.surface, p)
+        }
+    }
+
+    impl DiceSurface for Flat<'_> {
+        fn sample(&self, at: BasePoint) -> DiceSample {
+            let c = self.triangles[at.triangle as usize].map(|v| self.positions[v as usize]);
+            let p = interpolate(c, at.bary);
+            DiceSample { p, normal: self.outward(p), height: (self.height)(p), skip: 0 }
+        }
+        fn screen(&self, p: Vec3) -> Option<Vec2> {
+            Some(p.truncate() * (self.ppu)(p))
+        }
+        fn pixels_per_unit(&self, p: Vec3) -> f32 {
+            (self.ppu)(p)
+        }
+    }
+
+    /// On closed surfaces, whatever mix of rates, with triangle faces and with quad faces: no diced
+    /// triangle faces inwards, and every diced edge is met from the other side (no cracks); on the torus,
+    /// which has no poles, exactly once each way (no folds either). On the sphere triangle faces are also
+    /// filled exactly: their pieces' areas sum to their own.
+    #[test]
+    fn dicing_is_watertight_and_fills_each_face() {
+        for surface in [Surface::Sphere { radius: 1.0 }, Surface::Torus { major_radius: 1.0, minor_radius: 0.4 }] {
+            dice_closed(&surface);
+        }
+    }
+
+    fn dice_closed(surface: &Surface) {
+        let poles = matches!(surface, Surface::Sphere { .. });
+        let m = grid(surface, 12, 7);
+        let (weld_of, welded) = weld(&m.positions, 1e-6);
+        let triangles: Vec<Face> = m.triangles.iter().enumerate().map(|(t, &c)| Face::triangle(c, t as u32)).collect();
+        let quads: Vec<Face> = (0..m.triangles.len() / 2)
+            .map(|q| {
+                let ([a, b, c], [_, _, d]) = (m.triangles[2 * q], m.triangles[2 * q + 1]);
+                Face::quad([a, b, c, d], 2 * q as u32)
+            })
+            .collect();
+        let rates: [fn(Vec3) -> f32; 3] = [|_| 3.0, |p| 2.0 + 30.0 * (p.x + 1.0), |p| 3.0 * (p.z + 1.1).powi(3)];
+        for (faces, are_triangles) in [(&triangles, true), (&quads, false)] {
+            for ppu in rates {
+                // On the torus the base is left flat, so that which way a triangle turns is the dicing's doing.
+                let height: fn(Vec3) -> f32 = if poles { |p| 0.1 * (5.0 * p.x).sin() } else { |_| 0.0 };
+                let flat = Flat { surface, positions: &m.positions, triangles: &m.triangles, height, ppu };
+                let base = Base { faces, weld: &weld_of, welded };
+                let d = dice(&base, &flat, 1.0, 1 << 24).unwrap();
+                assert!(d.triangles.len() > 2 * faces.len());
+                let mut area = vec![0.0f64; faces.len()];
+                for (tri, &f) in d.triangles.iter().zip(&d.origins) {
+                    let [a, b, c] = tri.map(|v| d.positions[v as usize]);
+                    // Against the face's own triangles (the base is flat on the torus, curved on the sphere).
+                    let face = &faces[f as usize];
+                    let base_normal = (face.triangle..face.triangle + u32::from(face.sides - 2))
+                        .map(|t| m.triangles[t as usize].map(|v| m.positions[v as usize]))
+                        .map(|[p, q, r]| (q - p).cross(r - p))
+                        .sum::<Vec3>();
+                    let towards = if poles { outward(surface, a + b + c) } else { base_normal };
+                    let turn = (b - a).cross(c - a).dot(towards);
+                    // Zero where a coarse face is stitched to its finely cut edge by a fan in the edge's plane.
+                    assert!(turn >= -1e-6, "triangles {are_triangles}: face {f} turns inwards ({turn}): {a} {b} {c}");
+                    if are_triangles && poles {
+                        let bary = tri.map(|v| locate(&m, f, d.positions[v as usize]));
+                        area[f as usize] += f64::from((bary[1] - bary[0]).perp_dot(bary[2] - bary[0])) * 0.5;
+                    }
+                }
+                for (t, a) in area.iter().enumerate().filter(|_| are_triangles && poles) {
+                    let [p, q, r] = m.triangles[t].map(|v| m.positions[v as usize]);
+                    let want = if (q - p).cross(r - p).length() < 1e-9 { 0.0 } else { 0.5 };
+                    assert!((a - want).abs() < 1e-4, "base triangle {t}: diced area {a}, want {want}");
+                }
+                let mut directed: HashMap<(Vec3Key, Vec3Key), i32> = HashMap::new();
+                for tri in &d.triangles {
+                    for k in 0..3 {
+                        let (a, b) = (d.positions[tri[k] as usize], d.positions[tri[(k + 1) % 3] as usize]);
+                        *directed.entry((k3(a), k3(b))).or_default() += 1;
+                    }
+                }
+                for (&(a, b), &n) in &directed {
+                    let f = |k: Vec3Key| Vec3::from_array(k.map(f32::from_bits));
+                    assert!(directed.contains_key(&(b, a)), "a crack: {} -> {}", f(a), f(b));
+                    if !poles {
+                        assert_eq!((n, directed.get(&(b, a))), (1, Some(&1)), "a fold at {} -> {}", f(a), f(b));
+                    }
+                }
+            }
+        }
+    }
+
+    type Vec3Key = [u32; 3];
+    fn k3(p: Vec3) -> Vec3Key {
+        (p + Vec3::ZERO).to_array().map(f32::to_bits)
+    }
+
+    /// The weights of corners 1 and 2 of base triangle t at a diced vertex: the displacement is radial, so
+    /// the ray from the origin through the vertex meets the triangle's plane where it came from.
+    fn locate(m: &crate::geometry::tessellate::Mesh, t: u32, p: Vec3) -> Vec2 {
+        let [a, b, c] = m.triangles[t as usize].map(|v| m.positions[v as usize]);
+        let n = (b - a).cross(c - a);
+        let q = p * (n.dot(a) / n.dot(p));
+        let (e1, e2, r) = (b - a, c - a, q - a);
+        let (d11, d12, d22) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
+        let (r1, r2) = (r.dot(e1), r.dot(e2));
+        let det = d11 * d22 - d12 * d12;
+        Vec2::new((r1 * d22 - r2 * d12) / det, (r2 * d11 - r1 * d12) / det)
+    }
+}
