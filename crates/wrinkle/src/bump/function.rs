@@ -96,6 +96,17 @@ impl BumpMap {
         F8::splat(self.scale) * table.height8(mapped.u, mapped.v, &mapped.footprint, filter)
     }
 
+    /// The largest |F| the bump reaches: a table's largest entry times the scale; a procedural pattern's
+    /// values lie within [-1, 1]; an offset map stores no F.
+    pub fn largest_height(&self) -> f32 {
+        self.scale.abs()
+            * match &self.source {
+                BumpSource::Table(t) => t.largest(),
+                BumpSource::Procedural(_) => 1.0,
+                BumpSource::Offsets(_) => 0.0,
+            }
+    }
+
     /// An offset vector map's slopes along s and t, carried to u and v through the mapping's Jacobian.
     fn offsets(&self, map: &FilteredTexture, ctx: &LookupContext, filter: &FilterOptions) -> Gradient {
         let (mapped, jacobian) = self.mapping.apply_with_jacobian(ctx);

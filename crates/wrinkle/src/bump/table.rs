@@ -42,13 +42,21 @@ pub struct Gradients(Plane<f32>);
 /// summed-area table).
 pub struct BumpTable {
     data: Filterable<Gradients>,
+    /// The largest |T| of the table (what a displacement by it can reach).
+    largest: f32,
 }
 
 impl BumpTable {
     /// The table from a grey image (row 0 at the top, as images are stored).
     pub fn new(image: &GreyImage) -> Self {
         let base = Gradients(Plane::from_top_rows(image.width, image.height, &image.pixels));
-        BumpTable { data: Filterable::new(base, MipFilter::Box, [Wrap::Repeat; 2]) }
+        let largest = image.pixels.iter().fold(0.0f32, |m, t| m.max(t.abs()));
+        BumpTable { data: Filterable::new(base, MipFilter::Box, [Wrap::Repeat; 2]), largest }
+    }
+
+    /// The largest |T| in the table.
+    pub fn largest(&self) -> f32 {
+        self.largest
     }
 
     pub fn width(&self) -> usize {

@@ -250,7 +250,16 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
                 // Only on faces left out: never a vertex of the result.
                 return DiceSample { p: Vec3::ZERO, normal: Vec3::ZERO, height: 0.0, skip: 0 };
             }
-            mean(users.iter().map(|&(f, k)| surface.sample(faces[f as usize].at_corner(k))))
+            // Users at the same vertex of the base see the same point: one sample serves them all.
+            let mut seen: Vec<u32> = Vec::with_capacity(2);
+            mean(users.iter().filter_map(|&(f, k)| {
+                let face = &faces[f as usize];
+                let own = face.corner(k as usize);
+                (!seen.contains(&own)).then(|| {
+                    seen.push(own);
+                    surface.sample(face.at_corner(k))
+                })
+            }))
         })
         .collect();
     let rates: Vec<u32> = welded_edges
@@ -297,7 +306,13 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
             (1..rate)
                 .map(|j| {
                     let s = j as f32 / rate as f32;
-                    let seen = users.iter().map(|&(f, k)| {
+                    // The other user sees the same point where it shares the base's own edge.
+                    let own = |&(f, k): &(u32, u8)| {
+                        let face = &faces[f as usize];
+                        key(face.corner(k as usize), face.corner(k as usize + 1))
+                    };
+                    let alike = own(&users[0]) == own(&users[1]);
+                    let seen = users.iter().take(if alike { 1 } else { 2 }).map(|&(f, k)| {
                         // The user's edge runs from its corner k; the points run from the smaller end.
                         let face = &faces[f as usize];
                         let forward = weld(face.corner(k as usize)) == a;
@@ -443,12 +458,21 @@ fn snapped(face: &Face, k: usize, s: u32, n: u32, rate: u32, edges: &Edges, edge
     first[edge as usize] + if from_smaller { q - 1 } else { rate - q - 1 }
 }
 
-/// Welds vertices closer than `tolerance` (and bit-equal ones): each vertex's welded number, and the count.
+/// Welds vertices closer than `tolerance`, or with `tolerance` 0 bit-equal ones: each vertex's welded
+/// number, and the count.
 pub fn weld(positions: &[Vec3], tolerance: f32) -> (Vec<u32>, usize) {
-    let cell = tolerance.max(f32::MIN_POSITIVE);
-    let at = |p: Vec3| (p / cell).floor().as_ivec3();
+    let mut numbers = Vec::with_capacity(positions.len());
+    if tolerance == 0.0 {
+        let mut index: HashMap<[u32; 3], u32> = HashMap::with_capacity(positions.len());
+        for &p in positions {
+            let next = index.len() as u32;
+            numbers.push(*index.entry((p + Vec3::ZERO).to_array().map(f32::to_bits)).or_insert(next));
+        }
+        return (numbers, index.len());
+    }
+    let at = |p: Vec3| (p / tolerance).floor().as_ivec3();
     let mut grid: HashMap<glam::IVec3, Vec<u32>> = HashMap::with_capacity(positions.len());
-    let (mut numbers, mut reps) = (Vec::with_capacity(positions.len()), Vec::<Vec3>::new());
+    let mut reps = Vec::<Vec3>::new();
     for &p in positions {
         let c = at(p);
         let mut found = None;
@@ -541,7 +565,7 @@ mod tests {
     fn dice_closed(surface: &Surface) {
         let poles = matches!(surface, Surface::Sphere { .. });
         let m = grid(surface, 12, 7);
-        let (weld_of, welded) = weld(&m.positions, 1e-6);
+        let (weld_of, welded) = weld(&m.positions, 0.0);
         let triangles: Vec<Face> = m.triangles.iter().enumerate().map(|(t, &c)| Face::triangle(c, t as u32)).collect();
         let quads: Vec<Face> = (0..m.triangles.len() / 2)
             .map(|q| {

@@ -2,7 +2,7 @@
 //! all lanes together; the other surfaces lane by lane through their scalar frames.
 
 use super::surface::{Surface, SurfaceFrame};
-use crate::lanes::{CmpGe, CmpGt, CmpLe, F8, LANES, V3};
+use crate::lanes::{CmpGe, CmpGt, CmpLe, CmpLt, F8, LANES, V3};
 use crate::texture::Footprint8;
 use std::f32::consts::{PI, TAU};
 use wide::CmpEq;
@@ -79,6 +79,20 @@ impl Frame8 {
             pv: self.pv + self.puv * du + self.pvv * dv,
             ..*self
         }
+    }
+
+    /// `SurfaceFrame::max_curvature` on the lanes.
+    #[inline]
+    pub fn max_curvature8(&self) -> F8 {
+        let n = self.pu.cross(self.pv).normalize_or_zero();
+        let (e, f, g) = (n.dot(self.puu), n.dot(self.puv), n.dot(self.pvv));
+        let (ee, ff, gg) = (self.pu.dot(self.pu), self.pu.dot(self.pv), self.pv.dot(self.pv));
+        let det = ee * gg - ff * ff;
+        let degenerate = !(F8::splat(1e-12) * (ee * gg).max(F8::splat(f32::MIN_POSITIVE))).cmp_lt(det);
+        let mean = (e * gg - F8::splat(2.0) * f * ff + g * ee) / (F8::splat(2.0) * det);
+        let gauss = (e * g - f * f) / det;
+        let k = mean.abs() + (mean * mean - gauss).max(F8::ZERO).sqrt();
+        degenerate.blend(F8::splat(f32::INFINITY), k)
     }
 
     /// How the unit normal Pu x Pv / |Pu x Pv| changes across one pixel step in x and in y, where (u,v)
@@ -236,6 +250,19 @@ mod tests {
         for i in 0..LANES {
             let a = s.frame(0.3, 0.6).advanced(du.as_array_ref()[i], dv.as_array_ref()[i]);
             assert!((a.p - a8.lane(i).p).length() < 1e-6 && (a.pu - a8.lane(i).pu).length() < 1e-5);
+        }
+    }
+
+    #[test]
+    fn max_curvature_on_lanes_matches_the_scalar_form() {
+        let s = Surface::Torus { major_radius: 1.0, minor_radius: 0.4 };
+        let frames: [SurfaceFrame; 8] = std::array::from_fn(|i| s.frame(0.05 + 0.12 * i as f32, 0.1 * i as f32));
+        let lanes = Frame8::from_lanes(&frames).max_curvature8();
+        for (i, f) in frames.iter().enumerate() {
+            let want = f.max_curvature();
+            assert!((lanes.as_array_ref()[i] - want).abs() < 1e-4 * want, "{i}");
+            // A torus's largest curvature is the tube's, 1 / 0.4.
+            assert!((want - 2.5).abs() < 1e-3, "{want}");
         }
     }
 }

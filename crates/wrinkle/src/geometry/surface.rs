@@ -33,6 +33,21 @@ impl SurfaceFrame {
         }
     }
 
+    /// The largest principal curvature in magnitude (1 / the smallest radius of curvature), from the first
+    /// and second fundamental forms; infinite where the parametrisation degenerates (a pole).
+    pub fn max_curvature(&self) -> f32 {
+        let n = self.pu.cross(self.pv).normalize_or_zero();
+        let (e, f, g) = (n.dot(self.puu), n.dot(self.puv), n.dot(self.pvv));
+        let (ee, ff, gg) = (self.pu.length_squared(), self.pu.dot(self.pv), self.pv.length_squared());
+        let det = ee * gg - ff * ff;
+        if det <= 1e-12 * (ee * gg).max(f32::MIN_POSITIVE) {
+            return f32::INFINITY;
+        }
+        let mean = (e * gg - 2.0 * f * ff + g * ee) / (2.0 * det);
+        let gauss = (e * g - f * f) / det;
+        mean.abs() + (mean * mean - gauss).max(0.0).sqrt()
+    }
+
     /// The unit normal Pu x Pv, or where it vanishes because an edge of the patch is drawn together into a
     /// point (the teapot's lid knob and bottom, a sphere's poles) its limit along that edge, Puv x Pv or
     /// Pu x Puv; zero where even that vanishes.

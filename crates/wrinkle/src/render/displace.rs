@@ -146,8 +146,15 @@ fn displace_object(
         d.normals.extend(normals);
         d.parts.push(Part { mesh, ..part });
     }
-    let (lo, hi) = d.positions.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| (lo.min(p), hi.max(p)));
-    let (weld_of, welded) = weld(&d.positions, 1e-5 * (hi - lo).length());
+    // One primitive's seams and poles repeat positions exactly; where primitives meet they agree to rounding.
+    let tolerance = match d.parts.len() {
+        1 => 0.0,
+        _ => {
+            let (lo, hi) = d.positions.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+            1e-5 * (hi - lo).length()
+        }
+    };
+    let (weld_of, welded) = weld(&d.positions, tolerance);
     let base = Base { faces: &d.faces, weld: &weld_of, welded };
     let edge_px = d.parts.iter().map(|p| p.displacement.edge_px).fold(f32::INFINITY, f32::min);
     let most = Limit::Triangles.count();
@@ -251,35 +258,40 @@ impl DiceSurface for Displacing<'_> {
     fn sample(&self, at: BasePoint) -> DiceSample {
         let part = &self.parts[self.part_of[at.triangle as usize] as usize];
         let uv = interpolate(self.corners(at, &self.uvs), at.bary);
-        let (p, normal, pu, pv) = match &part.surface {
+        let (p, normal, pu, pv, curvature) = match &part.surface {
             Some(surface) => {
                 let f = surface.frame(uv.x, uv.y);
-                (f.p, f.limit_normal(), f.pu, f.pv)
+                (f.p, f.limit_normal(), f.pu, f.pv, f.max_curvature())
             }
             None => {
                 let [a, b, c] = self.corners(at, &self.positions);
                 let n = interpolate(self.corners(at, &self.normals), at.bary).normalize_or_zero();
                 let (pu, pv) = uv_tangents([a, b, c], self.corners(at, &self.uvs));
-                (interpolate([a, b, c], at.bary), n, pu, pv)
+                (interpolate([a, b, c], at.bary), n, pu, pv, f32::INFINITY)
             }
         };
-        // F filtered to what one diced edge can show.
-        let size = part.displacement.edge_px / self.pixels_per_unit(p);
-        let step = |d: Vec3| (size / d.length()).min(1.0);
-        let footprint = Footprint { dudx: step(pu), dvdx: 0.0, dudy: 0.0, dvdy: step(pv) };
-        let ctx = LookupContext::on_surface(p, pu, pv, uv, footprint);
-        let map = &part.displacement.map;
-        let f = map.eval(&ctx, &map.filter).f;
         let facing = self.facing(p, normal);
-        let w = part.displacement.weight(facing.abs());
-        let height = w * f;
-        let mut skip = self.off_screen(p, height.abs());
-        if w == 0.0 {
-            skip |= Skip::FLAT;
-        }
+        let displacement = part.displacement;
+        let w = displacement.weight(facing.abs(), displacement.threshold_at(curvature));
+        let mut skip = 0;
         if part.culled && facing < FACING_AWAY {
             skip |= Skip::FACING_AWAY;
         }
+        let height = match w {
+            0.0 => {
+                skip |= Skip::FLAT;
+                0.0
+            }
+            // F filtered to what one diced edge can show.
+            _ => {
+                let size = displacement.edge_px / self.pixels_per_unit(p);
+                let step = |d: Vec3| (size / d.length()).min(1.0);
+                let footprint = Footprint { dudx: step(pu), dvdx: 0.0, dudy: 0.0, dvdy: step(pv) };
+                let ctx = LookupContext::on_surface(p, pu, pv, uv, footprint);
+                w * displacement.map.eval(&ctx, &displacement.map.filter).f
+            }
+        };
+        skip |= self.off_screen(p, height.abs());
         DiceSample { p, normal, height, skip }
     }
 

@@ -550,7 +550,10 @@ fn parse_displacement(path: &str, v: &Value, base: &Path) -> Result<Displacement
     let in_unit = |x: f32| x > 0.0 && x <= 1.0;
     let mode = match silhouette {
         true => DisplacementMode::Silhouette {
-            threshold: f.number_where("threshold", Some(Displacement::THRESHOLD), in_unit, "a number above 0, at most 1")?,
+            threshold: match f.get("threshold") {
+                Some(_) => Some(f.number_where("threshold", None, in_unit, "a number above 0, at most 1")?),
+                None => None,
+            },
         },
         false if f.get("threshold").is_some() => {
             return Err(Error::scene(f.at("threshold"), "applies to mode = \"silhouette\" only"))

@@ -223,12 +223,16 @@ impl ShadeContext<'_> {
             // The sample lies on the displaced surface, F (times its weight) along the unit normal (a
             // mesh's sample is already on its displaced triangle).
             let n_unit = n_geo.normalize_or_zero();
-            let weight = match self.ortho_to_eye {
-                _ if d.mode == DisplacementMode::Full => F8::ONE,
-                Some(e) => d.weight8(V3::mul_mat3(&inst.normal_matrix, n_unit).normalize_or_zero().dot(V3::splat(e)).abs()),
-                None => {
-                    let to_eye = (V3::splat(self.eye) - position).normalize_or_zero();
-                    d.weight8(V3::mul_mat3(&inst.normal_matrix, n_unit).normalize_or_zero().dot(to_eye).abs())
+            let weight = match d.mode {
+                DisplacementMode::Full => F8::ONE,
+                DisplacementMode::Silhouette { .. } => {
+                    let to_eye = match self.ortho_to_eye {
+                        Some(e) => V3::splat(e),
+                        None => (V3::splat(self.eye) - position).normalize_or_zero(),
+                    };
+                    let facing = V3::mul_mat3(&inst.normal_matrix, n_unit).normalize_or_zero().dot(to_eye).abs();
+                    let threshold = d.threshold8(frame.max_curvature8());
+                    d.weight8(facing, threshold)
                 }
             };
             position = V3::transform_point(&inst.object_to_world, frame.p + n_unit * (g[0] * weight));
