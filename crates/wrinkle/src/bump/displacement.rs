@@ -92,7 +92,7 @@ mod tests {
     use crate::texture::FilterOptions;
     use std::sync::Arc;
 
-    fn silhouette(threshold: f32) -> Displacement {
+    fn silhouette(threshold: Option<f32>) -> Displacement {
         let table = BumpTable::new(&crate::image::GreyImage::new(2, 2, 0.0));
         let map = BumpMap {
             source: BumpSource::Table(Arc::new(table)),
