@@ -498,7 +498,7 @@ pub fn weld(positions: &[Vec3], tolerance: f32) -> (Vec<u32>, usize) {
     (numbers, reps.len())
 }
 
-/// The (u,v) at a base point, from the triangle's corners' `uvs`.
+/// A value at a base point from its triangle's three `corners` (positions, normals, (u,v)) and the weights.
 pub fn interpolate<T: Copy + std::ops::Mul<f32, Output = T> + std::ops::Add<Output = T>>(
     corners: [T; 3],
     bary: [f32; 3],
