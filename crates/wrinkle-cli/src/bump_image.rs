@@ -126,6 +126,7 @@ pub fn scene(args: &BumpArgs, table: BumpTable, texture: Option<FilteredTexture>
         }],
         materials: vec![material],
         volumes: Vec::new(),
+        environment: None,
     })
 }
 

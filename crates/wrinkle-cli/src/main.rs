@@ -7,6 +7,7 @@ mod bump_image;
 mod bumpgen;
 mod cpu;
 mod emboss;
+mod envmap;
 mod filters;
 mod heightmap;
 mod image_args;
@@ -67,6 +68,8 @@ enum Command {
     Mappings(mappings::MappingsArgs),
     /// Write a scene's geometry as an OBJ model: parametric surfaces tessellated, meshes as read, in world space.
     Tessellate(tessellate::TessellateArgs),
+    /// Convert an environment map between latlong, cube, sphere map and dual paraboloid layouts, filtered.
+    Envmap(envmap::EnvmapArgs),
 }
 
 fn main() -> ExitCode {
@@ -129,6 +132,7 @@ fn run_cli() -> ExitCode {
             Command::Texture(a) => texture::run(a),
             Command::Mappings(a) => mappings::run(a),
             Command::Tessellate(a) => tessellate::run(a),
+            Command::Envmap(a) => envmap::run(a),
         });
     match result {
         Ok(()) => ExitCode::SUCCESS,

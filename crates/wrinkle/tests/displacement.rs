@@ -37,7 +37,12 @@ fn scene(map: &str, scale: f64, extra: &str) -> String {
 
 /// Pixel centres that disagree with the outline rho(phi) = r + scale T(u), beyond `tolerance` pixels of it
 /// (signed distance along the radius), and how many centres lie inside it.
-fn outline_errors(ids: &[f32], scale: f64, t: &impl Fn(f64) -> f64, tolerance: f64) -> (usize, Vec<(usize, usize, f64)>) {
+fn outline_errors(
+    ids: &[f32],
+    scale: f64,
+    t: &impl Fn(f64) -> f64,
+    tolerance: f64,
+) -> (usize, Vec<(usize, usize, f64)>) {
     let px = SIDE as f64 / VIEW;
     let (mut inside, mut wrong) = (0, Vec::new());
     for j in 0..SIDE {
@@ -95,7 +100,11 @@ fn sinusoidal_height_gives_the_analytic_profile_without_cracks() {
         // Only holes count here: centres well inside the outline that show the background.
         let (_, wrong) = outline_errors(&ids, scale, &t, 1.0 + edge_px);
         let holes: Vec<_> = wrong.iter().filter(|w| w.2 < 0.0).collect();
-        assert!(holes.is_empty(), "edge_px {edge_px}: background inside the surface at {:?}", &holes[..holes.len().min(10)]);
+        assert!(
+            holes.is_empty(),
+            "edge_px {edge_px}: background inside the surface at {:?}",
+            &holes[..holes.len().min(10)]
+        );
     }
 }
 

@@ -279,7 +279,11 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
             let along = screen_length(surface, &[a.p, mid.p, b.p]);
             let chord = screen_length(surface, &[displaced(a), displaced(b)]);
             let px = along.max(chord) / edge_px;
-            if px.is_finite() { (px.ceil() as u32).clamp(1, MAX_RATE) } else { 1 }
+            if px.is_finite() {
+                (px.ceil() as u32).clamp(1, MAX_RATE)
+            } else {
+                1
+            }
         })
         .collect();
     let grids: Vec<(u32, u32)> = faces

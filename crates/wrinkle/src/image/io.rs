@@ -1,4 +1,5 @@
-//! Reading and writing image files: height maps and colour textures in (PNG, JPEG, BMP, TGA or TIFF),
+//! Reading and writing image files: height maps and colour textures in (PNG, JPEG, BMP, TGA, TIFF or
+//! Radiance HDR),
 //! rendered pictures out as PNG and float data (AOVs) out as OpenEXR. Every output file is placed by
 //! `output::write_atomic`: whole or not at all.
 
@@ -17,7 +18,7 @@ use super::{GreyImage, Image};
 use crate::error::{Error, Result};
 use crate::limits::{self, Limit};
 
-pub(crate) const NOT_SUPPORTED: &str = "not a supported image (expected PNG, JPEG, BMP, TGA or TIFF)";
+pub(crate) const NOT_SUPPORTED: &str = "not a supported image (expected PNG, JPEG, BMP, TGA, TIFF or Radiance HDR)";
 
 /// Rec. 709 luma weights for R, G, B.
 pub const LUMA: [f32; 3] = [0.2126, 0.7152, 0.0722];
@@ -206,6 +207,14 @@ fn load_exr_rgba(path: &Path) -> Result<(Image<[f32; 4]>, bool)> {
     let a = find("A");
     let pixels = (0..width * height).map(|k| [r[k], g[k], b[k], a.map_or(1.0, |a| a[k])]).collect();
     Ok((Image { width, height, pixels }, a.is_some()))
+}
+
+/// Writes a Radiance HDR (RGBE) file from linear `rgb`, 3 floats per pixel, row 0 at the top.
+pub fn write_hdr(path: &Path, width: usize, height: usize, rgb: &[f32]) -> Result<()> {
+    let pixels: Vec<::image::Rgb<f32>> = rgb.chunks_exact(3).map(|p| ::image::Rgb([p[0], p[1], p[2]])).collect();
+    write_atomic(path, |out| {
+        ::image::codecs::hdr::HdrEncoder::new(out).encode(&pixels, width, height).map_err(|e| Error::write(path, e))
+    })
 }
 
 /// Writes an 8-bit RGB PNG from `rgb`, 3 bytes per pixel, row 0 at the top.

@@ -150,7 +150,8 @@ fn displace_object(
     let tolerance = match d.parts.len() {
         1 => 0.0,
         _ => {
-            let (lo, hi) = d.positions.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+            let (lo, hi) =
+                d.positions.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| (lo.min(p), hi.max(p)));
             1e-5 * (hi - lo).length()
         }
     };
@@ -230,7 +231,8 @@ impl Displacing<'_> {
         triangles: Vec<[u32; 3]>,
     ) -> TriangleMesh {
         let own = |s: &BasePoint| self.triangles[s.triangle as usize].map(|v| (v - part.first_vertex) as usize);
-        let normals = sources.iter().map(|s| interpolate(own(s).map(|v| mesh.normals[v]), s.bary).normalize_or_zero()).collect();
+        let normals =
+            sources.iter().map(|s| interpolate(own(s).map(|v| mesh.normals[v]), s.bary).normalize_or_zero()).collect();
         let uv_sets = mesh
             .uv_sets
             .iter()

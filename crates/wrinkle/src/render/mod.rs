@@ -6,6 +6,7 @@ mod frame;
 
 pub use frame::{Aovs, Frame, Stats, NO_PRIMITIVE};
 
+use crate::envmap::Environment;
 use crate::geometry::frame_lanes::Frame8;
 use crate::geometry::mesh_lanes;
 use crate::geometry::tessellate::{grid, segments_for, Mesh};
@@ -159,9 +160,10 @@ pub fn render_with_progress(
         ortho_to_eye: (!camera.is_perspective()).then(|| camera.camera_to_world.transform_vector3(Vec3::Z).normalize()),
         lights: &scene.lights,
         materials: &scene.materials,
-        needs: scene.materials.iter().map(MappingNeeds::of).collect(),
+        needs: scene.materials.iter().map(|m| MappingNeeds::of(m, scene.environment.is_some())).collect(),
         bump_enabled: options.bump,
         bump_filter: options.bump_filter,
+        environment: scene.environment.as_ref().map(|e| &e.map),
     };
     let cutoffs: Vec<Option<f32>> = instances.iter().map(|i| scene.materials[i.material].alpha_cutoff()).collect();
     let replacing: Vec<bool> =
@@ -181,6 +183,7 @@ pub fn render_with_progress(
         aovs: options.aovs,
         sample_cell: (1.0 / options.spp as f32).sqrt(),
         volumes: &scene.volumes,
+        sky: scene.environment.as_ref().filter(|e| e.background).map(|e| &e.map),
         lights: &scene.lights,
         cutoffs: &cutoffs,
         any_masked: cutoffs.iter().any(Option::is_some),
@@ -362,6 +365,8 @@ struct TileJob<'a> {
     /// The side of one sample's cell of the pixel (1/sqrt(spp)), which scales its footprint.
     sample_cell: f32,
     volumes: &'a [Hypertexture],
+    /// The environment, where it is the background.
+    sky: Option<&'a Environment>,
     lights: &'a [Light],
     /// Per surface, the alpha cutoff of its material where the alpha test applies.
     cutoffs: &'a [Option<f32>],
@@ -373,6 +378,17 @@ struct TileJob<'a> {
 }
 
 impl TileJob<'_> {
+    /// What a sample that sees no object shows: the environment along its ray (filtered over the ray's
+    /// change across the sample's share of the pixel), else the background colour.
+    #[inline]
+    fn background_at(&self, screen: Vec2) -> Vec3 {
+        let Some(sky) = self.sky else { return self.background };
+        let step = self.sample_cell;
+        let dir = |at: Vec2| self.camera.ray(at).1;
+        let d = dir(screen);
+        sky.radiance(d, dir(screen + Vec2::new(step, 0.0)) - d, dir(screen + Vec2::new(0.0, step)) - d)
+    }
+
     /// The volumes in front of an opaque sample `depth` away (its distance along the ray; infinity for
     /// the background), composited over its colour.
     #[inline]
@@ -394,7 +410,10 @@ impl TileJob<'_> {
         w: usize,
         h: usize,
     ) {
-        if self.bins.bins[tile.1 * self.bins.tiles_x + tile.0].is_empty() && self.volumes.is_empty() {
+        if self.bins.bins[tile.1 * self.bins.tiles_x + tile.0].is_empty()
+            && self.volumes.is_empty()
+            && self.sky.is_none()
+        {
             // Nothing here: the frame already holds the background, and the AOVs keep their NaN.
             return;
         }
@@ -441,7 +460,7 @@ impl TileJob<'_> {
                     let k = (y * vis.width + x) * spp + s;
                     let screen = vis.sample_position(x, y, s, self.pattern);
                     if vis.triangle[k] == EMPTY {
-                        sum += self.volume_pass(screen, f32::INFINITY, self.background);
+                        sum += self.volume_pass(screen, f32::INFINITY, self.background_at(screen));
                         continue;
                     }
                     let sample = &shaded[k];

@@ -1,6 +1,7 @@
 //! Reading a scene from TOML, field by field, with paths resolved against the scene file's folder.
 
 use super::contain::contain_panics;
+use super::environment::parse_environment;
 use super::fields::{clip_backquoted, number_value, points, quoted, vec3_value, Fields};
 use super::layer::{parse_alpha_mode, parse_layers};
 use super::mapping::{parse_mapping, uv_list};
@@ -48,7 +49,7 @@ impl Scene {
     /// Parses scene text; relative file names resolve against `base`.
     pub fn parse(text: &str, base: &Path) -> Result<Scene> {
         let root: Value = toml::from_str::<toml::Table>(text).map(Value::Table).map_err(|e| toml_error(text, &e))?;
-        let top = Fields::new("", &root, &["camera", "light", "object", "volume"])?;
+        let top = Fields::new("", &root, &["camera", "light", "object", "volume", "environment"])?;
         let camera = parse_camera(top.get("camera").ok_or_else(|| Error::scene("camera", "missing table [camera]"))?)?;
         let lights = top
             .tables("light")?
@@ -67,7 +68,8 @@ impl Scene {
             .enumerate()
             .map(|(i, v)| procedural::parse_volume(&format!("volumes[{i}]"), v))
             .collect::<Result<Vec<_>>>()?;
-        Ok(Scene { camera, lights, objects, materials, volumes })
+        let environment = top.get("environment").map(|v| parse_environment(v, base)).transpose()?;
+        Ok(Scene { camera, lights, objects, materials, volumes, environment })
     }
 }
 
@@ -363,6 +365,8 @@ const MATERIAL_FIELDS: &[&str] = &[
     "alpha_mode",
     "alpha_cutoff",
     "displacement",
+    "reflect",
+    "fresnel",
 ];
 
 /// A material table; the fields it gives replace those of `under` (the default material, or the one a
@@ -404,7 +408,10 @@ fn parse_material(path: &str, v: &Value, base: &Path, under: Material) -> Result
             return Err(Error::scene(f.at("displacement"), "a normal map over a displaced surface is not built: give a bump (its F is added to the displacement's) or neither"));
         }
         if material.bump.as_ref().is_some_and(|b| b.parallax.is_some()) {
-            return Err(Error::scene(f.at("bump.parallax"), "marches a flat surface's height field: not with a displacement"));
+            return Err(Error::scene(
+                f.at("bump.parallax"),
+                "marches a flat surface's height field: not with a displacement",
+            ));
         }
     }
     material.color = colour(&f, "color", material.color)?;
@@ -415,6 +422,8 @@ fn parse_material(path: &str, v: &Value, base: &Path, under: Material) -> Result
         f.number_where("specular", Some(material.phong.specular), non_negative, "a non-negative number")?,
         f.number_where("shininess", Some(material.phong.shininess), positive, "a positive exponent")?,
     );
+    material.reflect = colour(&f, "reflect", material.reflect)?;
+    material.fresnel = f.boolean("fresnel", material.fresnel)?;
     material.alpha_mode = parse_alpha_mode(&f, material.alpha_mode)?;
     if material.alpha_mode == AlphaMode::Blend && f.get("alpha_mode").is_some() {
         return Err(Error::scene(f.at("alpha_mode"), BLEND_NOT_BUILT));
@@ -563,7 +572,10 @@ fn parse_displacement(path: &str, v: &Value, base: &Path) -> Result<Displacement
     let (finest, coarsest) = Displacement::EDGE_PX;
     let edge_px = f.number_or("edge_px", 1.0)?;
     if !(finest..=coarsest).contains(&edge_px) {
-        return Err(Error::scene(f.at("edge_px"), format!("expected pixels from {finest} to {coarsest}, got {edge_px}")));
+        return Err(Error::scene(
+            f.at("edge_px"),
+            format!("expected pixels from {finest} to {coarsest}, got {edge_px}"),
+        ));
     }
     Ok(Displacement { map, mode, edge_px })
 }

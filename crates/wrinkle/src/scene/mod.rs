@@ -2,6 +2,7 @@
 //! and validated on load.
 
 mod contain;
+mod environment;
 mod export;
 mod fields;
 mod gltf;
@@ -16,6 +17,7 @@ mod texture;
 pub use load::DEFAULT_SCENE;
 pub use mapping::parse_mapping_text;
 
+use crate::envmap::Environment;
 use crate::geometry::{Shape, Transform};
 use crate::light::Light;
 use crate::procedural::hypertexture::Hypertexture;
@@ -49,4 +51,12 @@ pub struct Scene {
     pub materials: Vec<Material>,
     /// Hypertextured volumes, ray marched over the opaque scene.
     pub volumes: Vec<Hypertexture>,
+    pub environment: Option<SceneEnvironment>,
+}
+
+/// The light arriving from far away in every direction.
+pub struct SceneEnvironment {
+    pub map: Environment,
+    /// Seen where the camera sees no object (else the camera's background colour is).
+    pub background: bool,
 }

@@ -143,7 +143,7 @@ impl ObjMaterial {
                 strength: 1.0,
                 convention: Convention::OpenGl,
             }),
-            displacement: None,
+            ..Material::default()
         }
     }
 }

@@ -34,6 +34,11 @@ pub struct Material {
     pub normal_map: Option<TangentNormalMap>,
     /// Moves the surface itself; its F also shades (with a bump's added).
     pub displacement: Option<Displacement>,
+    /// How much of the environment the surface mirrors (linear RGB): the reflected view ray's lookup times
+    /// this, added to the lit colour.
+    pub reflect: Vec3,
+    /// `reflect` is the reflectance at normal incidence, rising towards 1 at grazing angles (Schlick).
+    pub fresnel: bool,
 }
 
 impl Default for Material {
@@ -49,6 +54,8 @@ impl Default for Material {
             bump: None,
             normal_map: None,
             displacement: None,
+            reflect: Vec3::ZERO,
+            fresnel: false,
         }
     }
 }
@@ -81,6 +88,11 @@ impl Material {
     /// Whether the material emits (a colour or a layer on emission).
     pub fn emits(&self) -> bool {
         self.emission != Vec3::ZERO || self.layers.iter().any(|l| l.target == Target::Emission)
+    }
+
+    /// Whether the surface mirrors the environment.
+    pub fn reflects(&self) -> bool {
+        self.reflect != Vec3::ZERO
     }
 
     /// Whether the bump is parallax-mapped with depth replacement: the sample lies at the crossing.

@@ -12,6 +12,7 @@ pub use phong::Phong;
 
 use crate::bump::blinn::{perturbed_normal8, perturbed_normal_sided8};
 use crate::bump::{BumpFormula, BumpMap, DisplacementMode};
+use crate::envmap::Environment;
 use crate::geometry::frame_lanes::Frame8;
 use crate::geometry::mesh_lanes::MeshFrame8;
 use crate::geometry::Instance;
@@ -32,6 +33,8 @@ pub struct ShadeContext<'a> {
     pub bump_enabled: bool,
     /// Replaces every bump's own filter when set (`--bump-filter`).
     pub bump_filter: Option<Filter>,
+    /// What reflecting materials mirror.
+    pub environment: Option<&'a Environment>,
 }
 
 /// What a material's mappings need of a sample beyond its position, frame and (u,v).
@@ -44,8 +47,13 @@ pub struct MappingNeeds {
 }
 
 impl MappingNeeds {
-    pub fn of(material: &Material) -> MappingNeeds {
-        MappingNeeds { normal_change: material.reads_normal_change(), second_uv: material.reads_second_uv() }
+    /// What `material` needs; `mirrors`: whether there is an environment to reflect (whose footprint is
+    /// the reflected ray's, which turns with the normal).
+    pub fn of(material: &Material, mirrors: bool) -> MappingNeeds {
+        MappingNeeds {
+            normal_change: material.reads_normal_change() || (mirrors && material.reflects()),
+            second_uv: material.reads_second_uv(),
+        }
     }
 }
 
@@ -197,7 +205,11 @@ impl ShadeContext<'_> {
         let n_geo = surface.n;
         let (ctx, travel) = self.lookup_context(inst, material, &surface, at);
         // A displacement's F shades too (the displaced surface's own normal), with a bump's F added.
-        let bump = material.bump.as_ref().filter(|_| self.bump_enabled).map(|b| (b.eval8(&ctx, &self.bump_filter_of(b)), b.formula));
+        let bump = material
+            .bump
+            .as_ref()
+            .filter(|_| self.bump_enabled)
+            .map(|b| (b.eval8(&ctx, &self.bump_filter_of(b)), b.formula));
         let displaced = material.displacement.as_ref().map(|d| d.map.eval8(&ctx, &d.map.filter));
         let gradient = match (displaced, bump) {
             (Some(d), Some((b, _))) => Some((std::array::from_fn(|k| d[k] + b[k]), BumpFormula::Full)),
@@ -251,9 +263,11 @@ impl ShadeContext<'_> {
         };
         let v = to_eye.normalize_or_zero();
         let mut n = V3::mul_mat3(&inst.normal_matrix, n_obj).normalize_or_zero();
+        let mut back = None;
         if inst.two_sided {
-            let back = V3::mul_mat3(&inst.normal_matrix, n_geo).dot(v).cmp_lt(F8::ZERO);
-            n = V3::select(back, -n, n);
+            let turned = V3::mul_mat3(&inst.normal_matrix, n_geo).dot(v).cmp_lt(F8::ZERO);
+            n = V3::select(turned, -n, n);
+            back = Some(turned);
         }
         let mut kd = (V3::splat(material.color), F8::splat(material.opacity));
         let mut uv = None;
@@ -300,7 +314,67 @@ impl ShadeContext<'_> {
         if material.emits() {
             color = color + emission.unwrap_or(V3::splat(material.emission));
         }
+        if let (Some(env), true) = (self.environment, material.reflects()) {
+            let mirror = Mirror { n, v, back, distance: self.ortho_to_eye.is_none().then_some(depth) };
+            color = color + mirror.reflection(inst, material, env, &surface);
+        }
         let uv = uv.unwrap_or(at.uv);
         ShadedPacket { color, normal: n, depth, uv }
+    }
+}
+
+/// What the reflection of eight samples needs: the world shading normal and the unit vector to the eye,
+/// which lanes show their back (normal turned over), and how far the eye is (perspective views).
+struct Mirror {
+    n: V3,
+    v: V3,
+    back: Option<F8>,
+    distance: Option<F8>,
+}
+
+impl Mirror {
+    /// The environment seen along the view ray reflected about the shading normal (bumps included), times
+    /// the material's reflectance (Schlick's Fresnel where asked), filtered over the reflected rays'
+    /// change across the pixel: R = 2 (N.V) N - V and its differential from the eye's and the normal's
+    /// (Igehy's ray differentials; the normal's change is the surface's, not the bump's).
+    #[inline(never)]
+    fn reflection(&self, inst: &Instance, material: &Material, env: &Environment, surface: &SurfaceLanes) -> V3 {
+        let (n, v) = (self.n, self.v);
+        let nv = n.dot(v);
+        let r = n * (nv + nv) - v;
+        let world = |d: V3| V3::transform_vector(&inst.object_to_world, d);
+        let turned = |d: V3| {
+            // The normal's change, as the world normal sees it (and turned over where the normal is).
+            let d = V3::mul_mat3(&inst.normal_matrix, d);
+            let d = d - n * n.dot(d);
+            match self.back {
+                Some(back) => V3::select(back, -d, d),
+                None => d,
+            }
+        };
+        let differential = |dp: V3, dn: V3| {
+            // V = (E - P) / |E - P| turns as P moves across the pixel (not at all for parallel rays).
+            let dv = match self.distance {
+                Some(distance) => {
+                    let dp = world(dp);
+                    (dp - v * v.dot(dp)) * (-F8::ONE / distance.max(F8::splat(1e-20)))
+                }
+                None => V3::ZERO,
+            };
+            let dn = turned(dn);
+            (n * (dn.dot(v) + n.dot(dv)) + dn * nv) * F8::splat(2.0) - dv
+        };
+        let (drdx, drdy) = (differential(surface.dpdx, surface.dndx), differential(surface.dpdy, surface.dndy));
+        let seen = env.radiance8(&r, &drdx, &drdy);
+        let k = V3::splat(material.reflect);
+        let k = match material.fresnel {
+            true => {
+                let c = (F8::ONE - nv.max(F8::ZERO)).min(F8::ONE);
+                let c5 = (c * c) * (c * c) * c;
+                k + (V3::splat(Vec3::ONE) - k) * c5
+            }
+            false => k,
+        };
+        seen * k
     }
 }
