@@ -33,6 +33,25 @@ pub fn encode_srgb8(frame: &Frame) -> Vec<u8> {
     out
 }
 
+/// The frame's premultiplied colour and its coverage `alpha` as 8-bit RGBA: sRGB colour divided by alpha
+/// (PNG's alpha is straight), alpha linear.
+pub fn encode_srgba8(frame: &Frame, alpha: &[f32]) -> Vec<u8> {
+    let enc = SrgbEncoder::new();
+    let mut out = vec![0u8; frame.width * frame.height * 4];
+    out.par_chunks_mut(frame.width * 4)
+        .zip(frame.color.par_chunks(frame.width).zip(alpha.par_chunks(frame.width)))
+        .for_each(|(dst, (src, alpha))| {
+            for ((d, s), &a) in dst.chunks_exact_mut(4).zip(src).zip(alpha) {
+                let straight = if a > 0.0 { 1.0 / a } else { 0.0 };
+                for c in 0..3 {
+                    d[c] = enc.encode(s[c] * straight);
+                }
+                d[3] = (a.clamp(0.0, 1.0) * 255.0).round() as u8;
+            }
+        });
+    out
+}
+
 /// One file to write: its final path and the writer that produces it at a given path.
 type Output<'a> = (PathBuf, Box<dyn Fn(&Path) -> Result<()> + 'a>);
 
@@ -41,14 +60,22 @@ fn outputs<'a>(out: &Path, frame: &'a Frame) -> Result<Vec<Output<'a>>> {
     let (w, h) = (frame.width, frame.height);
     let mut list: Vec<Output<'a>> = Vec::new();
     match format_of(out)? {
-        Format::Png => {
-            list.push((out.to_path_buf(), Box::new(move |p| io::write_png_rgb8(p, w, h, &encode_srgb8(frame)))))
-        }
+        Format::Png => list.push((
+            out.to_path_buf(),
+            match &frame.alpha {
+                None => Box::new(move |p| io::write_png_rgb8(p, w, h, &encode_srgb8(frame))),
+                Some(alpha) => Box::new(move |p| io::write_png_rgba8(p, w, h, &encode_srgba8(frame, alpha))),
+            },
+        )),
+        // Premultiplied, as EXR's colour and alpha are.
         Format::Exr => list.push((
             out.to_path_buf(),
             Box::new(move |p| {
                 let (r, g, b) = (channel(&frame.color, 0), channel(&frame.color, 1), channel(&frame.color, 2));
-                io::write_exr(p, w, h, &[("R", &r), ("G", &g), ("B", &b)])
+                match &frame.alpha {
+                    None => io::write_exr(p, w, h, &[("R", &r), ("G", &g), ("B", &b)]),
+                    Some(a) => io::write_exr(p, w, h, &[("R", &r), ("G", &g), ("B", &b), ("A", a)]),
+                }
             }),
         )),
     }

@@ -37,6 +37,10 @@ pub struct RenderArgs {
     /// Print the time of each pipeline stage.
     #[arg(long)]
     pub stats: bool,
+    /// What lies behind the objects: the scene's (its camera's background colour, or its environment), or
+    /// nothing: alpha 0 there (PNG RGBA with straight alpha; EXR RGBA premultiplied).
+    #[arg(long, default_value = "scene", value_parser = ["scene", "transparent"])]
+    pub background: String,
 }
 
 /// Frames with at least this many samples (about 2 s of work) show a progress bar.
@@ -133,6 +137,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     format_of(&args.output)?;
     let mut options = args.frame.options()?;
     options.aovs = parse_aovs(&args.aov)?;
+    options.transparent = args.background == "transparent";
     if args.frames == 0 || args.frames > 100_000 {
         return Err(Error::Invalid(format!("--frames must be between 1 and 100000, got {}", args.frames)));
     }

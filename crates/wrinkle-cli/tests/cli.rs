@@ -681,3 +681,125 @@ fn tessellate_writes_the_scene_as_an_obj_with_shared_positions() {
     assert_one_error(&wrinkle(&["tessellate", &scene, "-o", &out, "--segments", "0"]), 2, &["segments", "0"], &s);
     assert_one_error(&wrinkle(&["tessellate", &scene, "-o", &s.out("m.png")]), 2, &["m.png"], &s);
 }
+
+/// `wrinkle envmap`: a latlong map of a known function of the direction, to a cube cross and back: the
+/// cross has the cube's shape and its face centres hold the function at the six axes; the round trip
+/// keeps the map within 1%.
+#[test]
+fn envmap_converts_between_layouts() {
+    use wrinkle::envmap::Layout;
+    let s = Scratch::new("envmap");
+    let f = |d: glam::Vec3| [0.5 + 0.4 * d.x, 0.5 + 0.4 * d.y, 0.5 + 0.4 * d.z];
+    let (w, h) = (256, 128);
+    let mut channels = vec![Vec::new(); 3];
+    for y in 0..h {
+        for x in 0..w {
+            let d =
+                Layout::LatLong.direction(0, (x as f32 + 0.5) / w as f32, 1.0 - (y as f32 + 0.5) / h as f32).unwrap();
+            for (c, v) in channels.iter_mut().zip(f(d)) {
+                c.push(v);
+            }
+        }
+    }
+    let input = s.input("sky.exr");
+    wrinkle::image::io::write_exr(
+        Path::new(&input),
+        w,
+        h,
+        &[("R", &channels[0]), ("G", &channels[1]), ("B", &channels[2])],
+    )
+    .unwrap();
+    let cross = s.out("cross.exr");
+    let run = wrinkle(&["envmap", &input, "-o", &cross, "--to", "cube", "--size", "32"]);
+    assert_ok(&run);
+    assert!(run.stdout.contains("latlong -> cube 128x96"), "{}", run.stdout);
+    let (cw, ch, cube) = read_exr_channels(Path::new(&cross)).unwrap();
+    assert_eq!((cw, ch), (128, 96));
+    let named =
+        |channels: &[(String, Vec<f32>)], name: &str| channels.iter().find(|(n, _)| n == name).unwrap().1.clone();
+    let cube = [named(&cube, "R"), named(&cube, "G"), named(&cube, "B")];
+    // Face centres in the cross (+X right of +Z, +Y above it, -Z at the end of the row).
+    let centre = |col: usize, row: usize| {
+        let (x, y) = (col * 32 + 16, row * 32 + 16);
+        // The mean of the four texels around the face's centre.
+        let at = |c: usize| {
+            [(x - 1, y - 1), (x, y - 1), (x - 1, y), (x, y)].iter().map(|&(i, j)| cube[c][j * cw + i]).sum::<f32>()
+                / 4.0
+        };
+        [at(0), at(1), at(2)]
+    };
+    for ((col, row), axis) in
+        [((2, 1), glam::Vec3::X), ((1, 0), glam::Vec3::Y), ((1, 1), glam::Vec3::Z), ((3, 1), -glam::Vec3::Z)]
+    {
+        let (got, want) = (centre(col, row), f(axis));
+        for k in 0..3 {
+            assert!((got[k] - want[k]).abs() < 0.01, "face at ({col}, {row}): {got:?} vs {want:?}");
+        }
+    }
+    let back = s.out("back.exr");
+    assert_ok(&wrinkle(&["envmap", &cross, "-o", &back, "--to", "latlong", "--size", "128"]));
+    let (_, _, round) = read_exr_channels(Path::new(&back)).unwrap();
+    let worst = named(&round, "R").iter().zip(&channels[0]).map(|(a, b)| (a - b).abs()).fold(0.0, f32::max);
+    assert!(worst < 0.01, "round trip: worst {worst}");
+    let bad = Scratch::new("envmap_bad");
+    let run = wrinkle(&["envmap", &input, "-o", &bad.out("x.png"), "--to", "cube", "--size", "0"]);
+    assert_one_error(&run, 2, &["--size 0"], &bad);
+}
+
+/// `--background transparent`: an RGBA PNG whose alpha is the coverage and whose colour is straight (an
+/// edge pixel keeps the surface's colour, not a darker blend), and an EXR with a premultiplied A.
+#[test]
+fn transparent_background_writes_alpha() {
+    let s = Scratch::new("transparent");
+    let scene = s.write_input(
+        "scene.toml",
+        "[camera]\neye = [0.0, 0.0, 5.0]\nlook_at = [0.0, 0.0, 0.0]\nprojection = \"orthographic\"\nheight = 2.0\n\
+         background = [0.0, 1.0, 0.0]\n\n[[light]]\ntype = \"ambient\"\n\n[[object]]\nshape = \"sphere\"\nradius = 0.7\n\
+         [object.material]\ncolor = [0.8, 0.4, 0.1]\n",
+    );
+    let png = s.out("x.png");
+    assert_ok(&wrinkle(&[
+        "render",
+        &scene,
+        "-o",
+        &png,
+        "--width",
+        "32",
+        "--height",
+        "32",
+        "--spp",
+        "16",
+        "--background",
+        "transparent",
+    ]));
+    assert_eq!(png_header(&png), (32, 32, 8, 6));
+    let rgba = image::open(&png).unwrap().to_rgba8();
+    let (corner, centre) = (rgba.get_pixel(0, 0).0, rgba.get_pixel(16, 16).0);
+    assert_eq!(corner[3], 0, "nothing at the corner: {corner:?}");
+    assert_eq!(centre[3], 255);
+    let edge = rgba.pixels().find(|p| p[3] > 40 && p[3] < 215).expect("an edge pixel").0;
+    for c in 0..3 {
+        assert!((i32::from(edge[c]) - i32::from(centre[c])).abs() <= 2, "straight alpha: {edge:?} vs {centre:?}");
+    }
+    let exr = s.out("x.exr");
+    assert_ok(&wrinkle(&[
+        "render",
+        &scene,
+        "-o",
+        &exr,
+        "--width",
+        "32",
+        "--height",
+        "32",
+        "--spp",
+        "16",
+        "--background",
+        "transparent",
+    ]));
+    let (_, _, channels) = read_exr_channels(Path::new(&exr)).unwrap();
+    let named = |name: &str| channels.iter().find(|(n, _)| n == name).unwrap().1.clone();
+    let (r, a) = (named("R"), named("A"));
+    assert_eq!((a[0], r[0]), (0.0, 0.0));
+    let k = a.iter().position(|&x| x > 0.2 && x < 0.8).expect("an edge pixel");
+    assert!((r[k] - 0.8 * a[k]).abs() < 1e-5, "premultiplied: R {} at A {}", r[k], a[k]);
+}

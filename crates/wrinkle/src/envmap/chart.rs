@@ -12,6 +12,7 @@
 //! - paraboloid: image 0 the +Z half, s = x / (2 (1 + z)) + 1/2, t = y / (2 (1 + z)) + 1/2; image 1 the -Z
 //!   half, mirrored in x (s = -x / (2 (1 - z)) + 1/2), so that side by side the two meet at +X.
 
+use crate::lanes::{CmpEq, CmpGe, CmpLt, F8, LANES, V3};
 use glam::Vec3;
 use std::f32::consts::PI;
 
@@ -50,43 +51,73 @@ impl Layout {
     }
 
     /// Where unit direction `d` lies, and the gradients of s and t with respect to the direction (what a
-    /// small change of `d` along the sphere moves them by).
-    #[inline]
+    /// small change of `d` along the sphere moves them by): `locate8` on one lane.
     pub fn locate(self, d: Vec3) -> (ChartPoint, [Vec3; 2]) {
+        let (at, [ds, dt]) = self.locate8(&V3::splat(d));
+        let point = ChartPoint { image: at.image[0] as usize, s: at.s.as_array_ref()[0], t: at.t.as_array_ref()[0] };
+        (point, [ds.lane(0), dt.lane(0)])
+    }
+
+    /// Where eight unit directions lie, and the gradients of s and t.
+    #[inline]
+    pub fn locate8(self, d: &V3) -> (ChartPoints8, [V3; 2]) {
+        let (one, half) = (F8::ONE, F8::splat(0.5));
         match self {
             Layout::LatLong => {
                 // Away from the poles by a hair: s is undefined on them.
-                let ring = (d.x * d.x + d.z * d.z).max(1e-12);
-                let s = 0.5 + d.x.atan2(-d.z) / (2.0 * PI);
-                let t = 0.5 + d.y.clamp(-1.0, 1.0).asin() / PI;
-                let ds = Vec3::new(-d.z, 0.0, d.x) / (2.0 * PI * ring);
-                let dt = Vec3::new(0.0, 1.0 / (PI * ring.sqrt()), 0.0);
-                (ChartPoint { image: 0, s: s.min(1.0), t }, [ds, dt])
+                let ring = (d.x * d.x + d.z * d.z).max(F8::splat(1e-12));
+                let s = half + d.x.atan2(-d.z) * F8::splat(0.5 / PI);
+                let t = half + d.y.max(-one).min(one).asin() * F8::splat(1.0 / PI);
+                let k = F8::splat(0.5 / PI) / ring;
+                let ds = V3 { x: -d.z * k, y: F8::ZERO, z: d.x * k };
+                let dt = V3 { x: F8::ZERO, y: F8::splat(1.0 / PI) / ring.sqrt(), z: F8::ZERO };
+                (ChartPoints8 { image: [0; LANES], s: s.min(one), t }, [ds, dt])
             }
             Layout::Cube => {
-                let face = Face::of(d);
-                let (ma, sc, up) = face.axes();
-                let m = ma.dot(d);
-                let (a, b) = (sc.dot(d) / m, up.dot(d) / m);
-                let point = ChartPoint { image: face as usize, s: 0.5 * (a + 1.0), t: 0.5 * (b + 1.0) };
-                (point, [(sc - a * ma) * (0.5 / m), (up - b * ma) * (0.5 / m)])
+                let a = V3 { x: d.x.abs(), y: d.y.abs(), z: d.z.abs() };
+                let (along_x, along_y) = (a.x.cmp_ge(a.y) & a.x.cmp_ge(a.z), a.y.cmp_ge(a.z));
+                let axis = along_x.blend(F8::ZERO, along_y.blend(F8::ONE, F8::splat(2.0)));
+                let component = along_x.blend(d.x, along_y.blend(d.y, d.z));
+                let face = axis + axis + component.cmp_lt(F8::ZERO).blend(F8::ONE, F8::ZERO);
+                let (mut ma, mut sc, mut up) = (V3::ZERO, V3::ZERO, V3::ZERO);
+                for f in Face::ALL {
+                    let this = face.cmp_eq(F8::splat(f as usize as f32));
+                    let (m, s, u) = f.axes();
+                    ma = V3::select(this, V3::splat(m), ma);
+                    sc = V3::select(this, V3::splat(s), sc);
+                    up = V3::select(this, V3::splat(u), up);
+                }
+                let m = ma.dot(*d);
+                let inv = one / m;
+                let (a, b) = (sc.dot(*d) * inv, up.dot(*d) * inv);
+                let image = face.to_array().map(|f| f as u8);
+                let k = half * inv;
+                (
+                    ChartPoints8 { image, s: half * (a + one), t: half * (b + one) },
+                    [(sc - ma * a) * k, (up - ma * b) * k],
+                )
             }
             Layout::Sphere => {
-                let w = Vec3::new(d.x, d.y, d.z + 1.0);
-                let m = 2.0 * w.length().max(1e-6);
-                let dm = w * (4.0 / m);
-                let point = ChartPoint { image: 0, s: d.x / m + 0.5, t: d.y / m + 0.5 };
-                (point, [(Vec3::X - dm * (d.x / m)) / m, (Vec3::Y - dm * (d.y / m)) / m])
+                let w = V3 { x: d.x, y: d.y, z: d.z + one };
+                let m = F8::splat(2.0) * w.length().max(F8::splat(1e-6));
+                let inv = one / m;
+                let dm = w * (F8::splat(4.0) * inv);
+                let (sx, sy) = (d.x * inv, d.y * inv);
+                let ds = (V3::splat(Vec3::X) - dm * sx) * inv;
+                let dt = (V3::splat(Vec3::Y) - dm * sy) * inv;
+                (ChartPoints8 { image: [0; LANES], s: sx + half, t: sy + half }, [ds, dt])
             }
             Layout::Paraboloid => {
                 // The back half is the front one of the direction turned half a turn about +Y.
-                let (image, mirror) = if d.z >= 0.0 { (0, 1.0) } else { (1, -1.0) };
+                let back = d.z.cmp_lt(F8::ZERO);
+                let mirror = back.blend(-one, one);
                 let (x, z) = (mirror * d.x, mirror * d.z);
-                let k = 0.5 / (1.0 + z).max(1e-6);
-                let point = ChartPoint { image, s: x * k + 0.5, t: d.y * k + 0.5 };
-                let ds = Vec3::new(mirror * k, 0.0, -mirror * x * k / (1.0 + z).max(1e-6));
-                let dt = Vec3::new(0.0, k, -mirror * d.y * k / (1.0 + z).max(1e-6));
-                (point, [ds, dt])
+                let q = (one + z).max(F8::splat(1e-6));
+                let k = half / q;
+                let image = back.to_array().map(|b| u8::from(b.to_bits() != 0));
+                let ds = V3 { x: mirror * k, y: F8::ZERO, z: -mirror * x * k / q };
+                let dt = V3 { x: F8::ZERO, y: k, z: -mirror * d.y * k / q };
+                (ChartPoints8 { image, s: x * k + half, t: d.y * k + half }, [ds, dt])
             }
         }
     }
@@ -121,6 +152,14 @@ impl Layout {
     }
 }
 
+/// Eight points of a layout: each one's image and (s, t) on it.
+#[derive(Clone, Copy, Debug)]
+pub struct ChartPoints8 {
+    pub image: [u8; LANES],
+    pub s: F8,
+    pub t: F8,
+}
+
 /// A point of a layout: one of its images and (s, t) on it, t up.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ChartPoint {
@@ -142,29 +181,6 @@ pub enum Face {
 
 impl Face {
     pub const ALL: [Face; 6] = [Face::PosX, Face::NegX, Face::PosY, Face::NegY, Face::PosZ, Face::NegZ];
-
-    /// The face the largest component of `d` points at.
-    #[inline]
-    pub fn of(d: Vec3) -> Face {
-        let a = d.abs();
-        if a.x >= a.y && a.x >= a.z {
-            if d.x >= 0.0 {
-                Face::PosX
-            } else {
-                Face::NegX
-            }
-        } else if a.y >= a.z {
-            if d.y >= 0.0 {
-                Face::PosY
-            } else {
-                Face::NegY
-            }
-        } else if d.z >= 0.0 {
-            Face::PosZ
-        } else {
-            Face::NegZ
-        }
-    }
 
     /// The face's outward axis, and the directions its s and t grow along (t up the picture: OpenGL's tc
     /// runs down it).

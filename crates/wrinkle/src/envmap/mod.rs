@@ -79,25 +79,36 @@ impl Environment {
     }
 
     /// The radiance arriving from unit world direction `d`, filtered over the directions `d + ddx` and
-    /// `d + ddy` reach (its change across the pixel).
-    #[inline]
+    /// `d + ddy` reach (its change across the pixel): `radiance8` on one lane.
     pub fn radiance(&self, d: Vec3, ddx: Vec3, ddy: Vec3) -> Vec3 {
-        let d = self.to_map * d;
-        let (ddx, ddy) = (self.to_map * ddx, self.to_map * ddy);
-        // Only the change along the sphere moves the point.
-        let (ddx, ddy) = (ddx - d * d.dot(ddx), ddy - d * d.dot(ddy));
-        let (at, [ds, dt]) = self.layout.locate(d);
-        let k = self.scale;
-        let footprint =
-            Footprint { dudx: ds.dot(ddx) * k, dvdx: dt.dot(ddx) * k, dudy: ds.dot(ddy) * k, dvdy: dt.dot(ddy) * k };
-        let texel = self.textures[at.image].lookup(self.inset + at.s * k, self.inset + at.t * k, &footprint);
-        texel.truncate() * self.intensity
+        self.radiance8(&V3::splat(d), &V3::splat(ddx), &V3::splat(ddy)).lane(0)
     }
 
-    /// `radiance` on eight lanes.
+    /// The radiance arriving from eight unit world directions, each filtered over its change across the
+    /// pixel. The chart and the footprints run on all lanes; the texture lookups one lane at a time.
+    #[inline]
     pub fn radiance8(&self, d: &V3, ddx: &V3, ddy: &V3) -> V3 {
-        let lanes: [Vec3; LANES] = std::array::from_fn(|i| self.radiance(d.lane(i), ddx.lane(i), ddy.lane(i)));
-        V3 { x: F8::new(lanes.map(|c| c.x)), y: F8::new(lanes.map(|c| c.y)), z: F8::new(lanes.map(|c| c.z)) }
+        let d = V3::mul_mat3(&self.to_map, *d);
+        let (ddx, ddy) = (V3::mul_mat3(&self.to_map, *ddx), V3::mul_mat3(&self.to_map, *ddy));
+        // Only the change along the sphere moves the point.
+        let (ddx, ddy) = (ddx - d * d.dot(ddx), ddy - d * d.dot(ddy));
+        let (at, [ds, dt]) = self.layout.locate8(&d);
+        let k = F8::splat(self.scale);
+        let footprint = [ds.dot(ddx) * k, dt.dot(ddx) * k, ds.dot(ddy) * k, dt.dot(ddy) * k].map(|f| f.to_array());
+        let inset = F8::splat(self.inset);
+        let (s, t) = ((inset + at.s * k).to_array(), (inset + at.t * k).to_array());
+        let mut out = V3::ZERO;
+        for i in 0..LANES {
+            let fp = Footprint {
+                dudx: footprint[0][i],
+                dvdx: footprint[1][i],
+                dudy: footprint[2][i],
+                dvdy: footprint[3][i],
+            };
+            let texel = self.textures[at.image[i] as usize].lookup(s[i], t[i], &fp);
+            out.set_lane(i, texel.truncate() * self.intensity);
+        }
+        out
     }
 }
 

@@ -5,7 +5,7 @@ use crate::shade::ShadedSample;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 
-/// Which AOVs to keep. Background pixels hold NaN in every AOV.
+/// Which AOVs to keep. Background pixels hold NaN in every AOV (alpha: 0).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Aovs {
     pub normal: bool,
@@ -13,6 +13,8 @@ pub struct Aovs {
     pub depth: bool,
     pub id: bool,
     pub primitive: bool,
+    /// Coverage: the share of the pixel's samples that see an object.
+    pub alpha: bool,
 }
 
 impl Aovs {
@@ -24,11 +26,12 @@ impl Aovs {
             + aov(self.uv, 8)
             + aov(self.depth, 4)
             + aov(self.id, 4)
-            + aov(self.primitive, 8))
+            + aov(self.primitive, 8)
+            + aov(self.alpha, 4))
     }
 
     pub fn any(&self) -> bool {
-        self.normal || self.uv || self.depth || self.id || self.primitive
+        self.normal || self.uv || self.depth || self.id || self.primitive || self.alpha
     }
 }
 
@@ -61,6 +64,8 @@ pub struct Frame {
     /// The item buffer: (object, triangle within the object) of the object that covers most of the pixel's
     /// samples, the triangle of its first covered sample; `NO_PRIMITIVE` where none is.
     pub primitive: Option<Vec<[u32; 2]>>,
+    /// Coverage, 0 to 1 (where asked: a transparent background); the colour is premultiplied by it.
+    pub alpha: Option<Vec<f32>>,
     pub stats: Stats,
 }
 
@@ -80,6 +85,7 @@ impl Frame {
             depth: aovs.depth.then(|| vec![f32::NAN; n]),
             id: aovs.id.then(|| vec![f32::NAN; n]),
             primitive: aovs.primitive.then(|| vec![NO_PRIMITIVE; n]),
+            alpha: aovs.alpha.then(|| vec![0.0; n]),
             stats: Stats::default(),
         }
     }
@@ -104,6 +110,7 @@ impl Frame {
         gather(&mut self.depth, bands.iter_mut().map(|b| std::mem::take(&mut b.depth)));
         gather(&mut self.id, bands.iter_mut().map(|b| std::mem::take(&mut b.id)));
         gather(&mut self.primitive, bands.iter_mut().map(|b| std::mem::take(&mut b.primitive)));
+        gather(&mut self.alpha, bands.iter_mut().map(|b| std::mem::take(&mut b.alpha)));
     }
 }
 
@@ -152,10 +159,13 @@ pub(super) struct AovBand {
     depth: Vec<f32>,
     id: Vec<f32>,
     primitive: Vec<[u32; 2]>,
+    alpha: Vec<f32>,
+    /// 1 / samples per pixel: a covered sample's share of the pixel's alpha.
+    sample_share: f32,
 }
 
 impl AovBand {
-    pub fn new(kinds: Aovs, n: usize) -> AovBand {
+    pub fn new(kinds: Aovs, n: usize, spp: usize) -> AovBand {
         let sized = |on: bool, n: usize| if on { n } else { 0 };
         AovBand {
             kinds,
@@ -164,6 +174,8 @@ impl AovBand {
             depth: vec![f32::NAN; sized(kinds.depth, n)],
             id: vec![f32::NAN; sized(kinds.id, n)],
             primitive: vec![NO_PRIMITIVE; sized(kinds.primitive, n)],
+            alpha: vec![0.0; sized(kinds.alpha, n)],
+            sample_share: 1.0 / spp as f32,
         }
     }
 
@@ -188,6 +200,9 @@ impl AovBand {
         }
         if self.kinds.primitive {
             self.primitive[i] = s.primitive();
+        }
+        if self.kinds.alpha {
+            self.alpha[i] = s.count as f32 * self.sample_share;
         }
     }
 }

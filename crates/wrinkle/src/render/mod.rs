@@ -49,6 +49,9 @@ pub struct RenderOptions {
     pub turntable_degrees: f32,
     /// Which per-pixel AOVs to keep.
     pub aovs: Aovs,
+    /// Nothing behind the objects: the background (colour or environment) is black with alpha 0, the
+    /// frame keeps its coverage as alpha and its colour is premultiplied by it.
+    pub transparent: bool,
 }
 
 impl Default for RenderOptions {
@@ -61,6 +64,7 @@ impl Default for RenderOptions {
             bump_filter: None,
             turntable_degrees: 0.0,
             aovs: Aovs::default(),
+            transparent: false,
         }
     }
 }
@@ -104,7 +108,8 @@ pub fn render_with_progress(
 ) -> Result<Frame> {
     options.validate()?;
     let (w, h) = (options.width, options.height);
-    crate::limits::reserve((w * h) as u64 * options.aovs.bytes_per_pixel(), || format!("a {w}x{h} frame"))?;
+    let aovs = Aovs { alpha: options.transparent || options.aovs.alpha, ..options.aovs };
+    crate::limits::reserve((w * h) as u64 * aovs.bytes_per_pixel(), || format!("a {w}x{h} frame"))?;
     let mut stats = Stats::default();
     let cam = &scene.camera;
     let camera = Camera::new(cam.eye, cam.look_at, cam.up, cam.projection, w as u32, h as u32);
@@ -168,7 +173,9 @@ pub fn render_with_progress(
     let cutoffs: Vec<Option<f32>> = instances.iter().map(|i| scene.materials[i.material].alpha_cutoff()).collect();
     let replacing: Vec<bool> =
         instances.iter().map(|i| options.bump && scene.materials[i.material].replaces_depth()).collect();
-    let mut frame = Frame::new(w, h, options.aovs, cam.background);
+    // A transparent background: black and alpha 0 where nothing is seen, colour premultiplied by coverage.
+    let background = if options.transparent { Vec3::ZERO } else { cam.background };
+    let mut frame = Frame::new(w, h, aovs, background);
     let band_len = tile_size * w;
     let job = TileJob {
         bins: &bins,
@@ -179,11 +186,11 @@ pub fn render_with_progress(
         pattern: &pattern,
         instances: &instances,
         shade: &shade_ctx,
-        background: cam.background,
-        aovs: options.aovs,
+        background,
+        aovs,
         sample_cell: (1.0 / options.spp as f32).sqrt(),
         volumes: &scene.volumes,
-        sky: scene.environment.as_ref().filter(|e| e.background).map(|e| &e.map),
+        sky: scene.environment.as_ref().filter(|e| e.background && !options.transparent).map(|e| &e.map),
         lights: &scene.lights,
         cutoffs: &cutoffs,
         any_masked: cutoffs.iter().any(Option::is_some),
@@ -199,13 +206,14 @@ pub fn render_with_progress(
             || TileScratch {
                 vis: VisBuffer::new(tile_size, options.spp),
                 shaded: Vec::new(),
+                sky: Vec::new(),
                 candidates: Vec::new(),
                 missed: Vec::new(),
                 refused: Vec::new(),
                 replaced: Vec::new(),
             },
             |scratch, (ty, color)| {
-                let mut aov = frame::AovBand::new(options.aovs, color.len());
+                let mut aov = frame::AovBand::new(aovs, color.len(), options.spp);
                 for tx in 0..bins.tiles_x {
                     job.tile(scratch, (tx, ty), color, &mut aov, w, h);
                 }
@@ -378,15 +386,47 @@ struct TileJob<'a> {
 }
 
 impl TileJob<'_> {
-    /// What a sample that sees no object shows: the environment along its ray (filtered over the ray's
-    /// change across the sample's share of the pixel), else the background colour.
-    #[inline]
-    fn background_at(&self, screen: Vec2) -> Vec3 {
-        let Some(sky) = self.sky else { return self.background };
-        let step = self.sample_cell;
-        let dir = |at: Vec2| self.camera.ray(at).1;
-        let d = dir(screen);
-        sky.radiance(d, dir(screen + Vec2::new(step, 0.0)) - d, dir(screen + Vec2::new(0.0, step)) - d)
+    /// What the samples that see no object show, where the environment is the background: the environment
+    /// along their rays, filtered over each ray's change across the sample's share of the pixel, eight at
+    /// a time, into `sky` (by sample).
+    fn sky_samples(&self, env: &Environment, vis: &VisBuffer, sky: &mut Vec<Vec3>) {
+        sky.resize(vis.width * vis.height * vis.spp, Vec3::ZERO);
+        let empty = (0..sky.len()).filter(|&k| vis.triangle[k] == EMPTY);
+        let mut batch = [0usize; LANES];
+        let mut len = 0;
+        let flush = |batch: &[usize; LANES], len: usize, sky: &mut [Vec3]| {
+            let screen = |i: usize| {
+                let k = batch[i.min(len - 1)];
+                vis.sample_position((k / vis.spp) % vis.width, k / vis.spp / vis.width, k % vis.spp, self.pattern)
+            };
+            let (sx, sy) =
+                (F8::new(std::array::from_fn(|i| screen(i).x)), F8::new(std::array::from_fn(|i| screen(i).y)));
+            let rays = self.camera.rays8(sx, sy, self.sample_cell);
+            let to_world = &self.camera.camera_to_world;
+            let c = V3::transform_vector(to_world, rays.dir);
+            let inv = F8::ONE / c.length();
+            let d = c * inv;
+            // d(c / |c|) = (dc - d (d.dc)) / |c|
+            let change = |dc: V3| {
+                let dc = V3::transform_vector(to_world, dc);
+                (dc - d * d.dot(dc)) * inv
+            };
+            let radiance = env.radiance8(&d, &change(rays.dx.1), &change(rays.dy.1));
+            for i in 0..len {
+                sky[batch[i]] = radiance.lane(i);
+            }
+        };
+        for k in empty {
+            batch[len] = k;
+            len += 1;
+            if len == LANES {
+                flush(&batch, len, sky);
+                len = 0;
+            }
+        }
+        if len > 0 {
+            flush(&batch, len, sky);
+        }
     }
 
     /// The volumes in front of an opaque sample `depth` away (its distance along the ray; infinity for
@@ -421,7 +461,10 @@ impl TileJob<'_> {
         if self.any_masked || self.any_replacing || scratch.vis.outline {
             self.fix_visibility(scratch, tile);
         }
-        let TileScratch { vis, shaded, .. } = scratch;
+        let TileScratch { vis, shaded, sky, .. } = scratch;
+        if let Some(env) = self.sky {
+            self.sky_samples(env, vis, sky);
+        }
         // Shade every covered sample, eight of one surface at a time, into the tile's sample buffer.
         let spp = vis.spp;
         // Only covered samples are read back, and each of them is written first: no clearing needed.
@@ -460,7 +503,8 @@ impl TileJob<'_> {
                     let k = (y * vis.width + x) * spp + s;
                     let screen = vis.sample_position(x, y, s, self.pattern);
                     if vis.triangle[k] == EMPTY {
-                        sum += self.volume_pass(screen, f32::INFINITY, self.background_at(screen));
+                        let behind = if self.sky.is_some() { sky[k] } else { self.background };
+                        sum += self.volume_pass(screen, f32::INFINITY, behind);
                         continue;
                     }
                     let sample = &shaded[k];
@@ -750,11 +794,13 @@ struct Replaced {
     behind: f32,
 }
 
-/// One worker's buffers, reused from tile to tile: the visibility buffer, the shaded samples, and the
-/// visibility fix-ups' lists of samples.
+/// One worker's buffers, reused from tile to tile: the visibility buffer, the shaded samples, the
+/// background's samples, and the visibility fix-ups' lists of samples.
 struct TileScratch {
     vis: VisBuffer,
     shaded: Vec<Shaded>,
+    /// The environment behind each sample that sees no object.
+    sky: Vec<Vec3>,
     candidates: Vec<usize>,
     missed: Vec<usize>,
     refused: Vec<usize>,

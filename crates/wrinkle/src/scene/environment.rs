@@ -6,7 +6,7 @@
 //!     layout = "latlong"              # cube, sphere, paraboloid; guessed from the files when left out
 //!     intensity = 1.0
 //!     rotate = 0.0                    # degrees about +Y
-//!     filter = "ewa"                  # any texture filter
+//!     filter = "trilinear"            # any texture filter
 //!     background = true
 
 use super::fields::{describe, Fields};
@@ -43,7 +43,7 @@ pub fn parse_environment(v: &Value, base: &Path) -> Result<SceneEnvironment> {
     let layout = f.choice("layout", None, &layouts)?;
     let filters: Vec<(&str, Filter)> = Filter::ALL.to_vec();
     let filter = FilterOptions {
-        filter: f.choice("filter", Filter::Ewa, &filters)?,
+        filter: f.choice("filter", Filter::Trilinear, &filters)?,
         max_aniso: f.number_where("max_aniso", Some(16.0), |x| (1.0..=64.0).contains(&x), "a ratio from 1 to 64")?,
         ..FilterOptions::default()
     };

@@ -165,7 +165,7 @@ pub fn scratch_dir(name: &str) -> PathBuf {
 /// Renders scene text at `w` x `h` with `spp` samples per pixel and every AOV kept.
 pub fn render_all_aovs(scene: &str, base: &Path, w: usize, h: usize, spp: usize) -> Frame {
     let scene = Scene::parse(scene, base).unwrap_or_else(|e| panic!("scene does not parse: {e}\n{scene}"));
-    let aovs = Aovs { normal: true, uv: true, depth: true, id: true, primitive: true };
+    let aovs = Aovs { normal: true, uv: true, depth: true, id: true, primitive: true, alpha: true };
     wrinkle::render(&scene, &RenderOptions { width: w, height: h, spp, aovs, ..Default::default() }).expect("render")
 }
 
