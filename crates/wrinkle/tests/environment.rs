@@ -211,3 +211,67 @@ fn bad_maps_are_refused_in_one_line() {
         assert!(!err.contains('\n'), "one line: {err}");
     }
 }
+
+/// A sphere seen head-on, lit only by the environment in `file` (`[[light]] type = "environment"`), with a
+/// material's body.
+fn lit_sphere(file: &str, material: &str) -> String {
+    format!(
+        "[camera]\neye = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\nbackground = [0.0, 0.0, 0.0]\n\n\
+         [environment]\nmap = \"{file}\"\nbackground = false\n\n[[light]]\ntype = \"environment\"\n\n\
+         [[object]]\nshape = \"sphere\"\n[object.material]\n{material}\n"
+    )
+}
+
+/// Image-based lighting in a constant environment of radiance L: a white Lambertian surface shades to
+/// exactly L (the normalisation: albedo / pi times the irradiance), and a glossy black one to ks L.
+#[test]
+fn constant_environment_lights_to_its_own_radiance() {
+    let dir = scratch_dir("ibl-constant");
+    let radiance = [0.4f32, 1.5, 3.0];
+    write_rgba_exr(&dir.join("flat.exr"), &Image::new(2, 1, [radiance[0], radiance[1], radiance[2], 1.0]));
+    for (material, scale) in [
+        ("color = [1.0, 1.0, 1.0]\nspecular = 0.0", 1.0f32),
+        ("color = [0.0, 0.0, 0.0]\nspecular = 0.35\nshininess = 80.0", 0.35),
+    ] {
+        let frame = render(&parse(&lit_sphere("flat.exr", material), &dir));
+        let depth = frame.depth.as_ref().unwrap();
+        for (c, d) in frame.color.iter().zip(depth).filter(|(_, d)| d.is_finite()) {
+            for k in 0..3 {
+                assert!((c[k] - scale * radiance[k]).abs() < 1e-3 * radiance[k], "{material}: {c:?} at depth {d}");
+            }
+        }
+    }
+}
+
+/// Under one bright texel (a one-hot direction) a white Lambertian sphere's shading follows the clamped
+/// cosine about that direction (within 4% of its peak: the convolved map is a small grid read bilinearly).
+#[test]
+fn one_hot_environment_lights_along_the_cosine_lobe() {
+    let dir = scratch_dir("ibl-one-hot");
+    let (w, h) = (128, 64);
+    // Up, left and towards the camera (+Z lies at the left and right edges of a latlong map).
+    let hot = (w / 8, h / 3);
+    let image =
+        Image::from_fn(w, h, |x, y| if (x, y) == hot { [500.0, 500.0, 500.0, 1.0] } else { [0.0, 0.0, 0.0, 1.0] });
+    write_rgba_exr(&dir.join("hot.exr"), &image);
+    let light =
+        Layout::LatLong.direction(0, (hot.0 as f32 + 0.5) / w as f32, 1.0 - (hot.1 as f32 + 0.5) / h as f32).unwrap();
+    // The texel's power spread over the sphere's cosine: radiance x solid angle / pi at the peak.
+    let polar = |j: usize| j as f32 * std::f32::consts::PI / h as f32;
+    let solid_angle = 2.0 * std::f32::consts::PI / w as f32 * (polar(hot.1).cos() - polar(hot.1 + 1).cos());
+    let peak = 500.0 * solid_angle / std::f32::consts::PI;
+    let frame = render(&parse(&lit_sphere("hot.exr", "color = [1.0, 1.0, 1.0]\nspecular = 0.0"), &dir));
+    let (depth, normals) = (frame.depth.as_ref().unwrap(), frame.normal.as_ref().unwrap());
+    let mut lit = 0;
+    for k in (0..SIZE * SIZE).filter(|&k| depth[k].is_finite()) {
+        let n = Vec3::from(normals[k]);
+        let want = peak * n.dot(light).max(0.0);
+        assert!(
+            (frame.color[k][0] - want).abs() < 0.04 * peak,
+            "normal {n}: {} vs {want} (peak {peak})",
+            frame.color[k][0]
+        );
+        lit += usize::from(want > 0.5 * peak);
+    }
+    assert!(lit > 100, "{lit} pixels well lit");
+}

@@ -5,6 +5,7 @@ pub mod chart;
 pub mod convert;
 pub mod cube;
 pub mod files;
+pub mod lobe;
 
 pub use chart::{ChartPoint, Face, Layout};
 pub use cube::Arrangement;
@@ -13,6 +14,7 @@ use crate::image::Image;
 use crate::lanes::{F8, LANES, V3};
 use crate::texture::{FilterOptions, FilteredTexture, Footprint, MipFilter, TextureOptions, Wrap};
 use glam::{Mat3, Vec3, Vec4};
+use std::sync::{Arc, Mutex};
 
 /// How an environment is looked up.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -41,6 +43,8 @@ pub struct Environment {
     intensity: f32,
     /// World directions into the map's frame.
     to_map: Mat3,
+    /// The convolutions with Phong lobes made so far (`lobe`), by exponent.
+    lobes: Mutex<Vec<(f32, Arc<Environment>)>>,
 }
 
 impl Environment {
@@ -65,7 +69,15 @@ impl Environment {
         };
         let textures = stored.iter().map(|image| FilteredTexture::new(image, texture_options)).collect();
         let to_map = Mat3::from_rotation_y(-options.rotate.to_radians());
-        Ok(Environment { layout, textures, inset, scale, intensity: options.intensity, to_map })
+        Ok(Environment {
+            layout,
+            textures,
+            inset,
+            scale,
+            intensity: options.intensity,
+            to_map,
+            lobes: Mutex::default(),
+        })
     }
 
     /// The same radiance from every direction.
@@ -76,6 +88,19 @@ impl Environment {
 
     pub fn layout(&self) -> Layout {
         self.layout
+    }
+
+    /// The environment convolved with the normalised Phong lobe of exponent `s` (`lobe::convolve`): 1 for
+    /// diffuse surfaces (irradiance over pi), a material's for glossy ones. Made once per exponent, then
+    /// kept with the environment.
+    pub fn lobe(&self, s: f32) -> Arc<Environment> {
+        let mut lobes = self.lobes.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        if let Some((_, made)) = lobes.iter().find(|(e, _)| *e == s) {
+            return Arc::clone(made);
+        }
+        let made = Arc::new(lobe::convolve(self, s));
+        lobes.push((s, Arc::clone(&made)));
+        made
     }
 
     /// The radiance arriving from unit world direction `d`, filtered over the directions `d + ddx` and

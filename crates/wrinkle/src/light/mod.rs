@@ -11,4 +11,6 @@ pub enum Light {
     Point { position: Vec3, radiance: Vec3 },
     /// Light from everywhere, reflected diffusely without regard to the normal.
     Ambient { radiance: Vec3 },
+    /// The scene's environment map as a light (image-based lighting), its radiance times `radiance`.
+    Environment { radiance: Vec3 },
 }

@@ -212,6 +212,8 @@ impl Hypertexture {
                             radiance / d2 * n.dot(d / d2.sqrt()).max(0.0)
                         }
                         Light::Ambient { radiance } => radiance,
+                        // Volumes are not lit by the environment map (yet).
+                        Light::Environment { .. } => Vec3::ZERO,
                     };
                 }
                 *albedo * c

@@ -21,7 +21,7 @@ use crate::raster::setup::ProjectedVertex;
 use crate::raster::visibility::EMPTY;
 use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
 use crate::scene::Scene;
-use crate::shade::{MappingNeeds, ShadeContext, ShadedSample, SurfaceSamples8};
+use crate::shade::{Ibl, MappingNeeds, ShadeContext, ShadedSample, SurfaceSamples8};
 use crate::texture::{Filter, Footprint8};
 use crate::{Error, Result};
 use glam::{Affine3A, Quat, Vec2, Vec3};
@@ -169,6 +169,7 @@ pub fn render_with_progress(
         bump_enabled: options.bump,
         bump_filter: options.bump_filter,
         environment: scene.environment.as_ref().map(|e| &e.map),
+        ibl: ibl(scene),
     };
     let cutoffs: Vec<Option<f32>> = instances.iter().map(|i| scene.materials[i.material].alpha_cutoff()).collect();
     let replacing: Vec<bool> =
@@ -226,6 +227,23 @@ pub fn render_with_progress(
     stats.raster_shade_ms = ms(t);
     frame.stats = stats;
     Ok(frame)
+}
+
+/// The environment as a light, with the convolved maps its materials need (made on first use, then kept
+/// with the environment).
+fn ibl(scene: &Scene) -> Option<Ibl> {
+    let env = &scene.environment.as_ref()?.map;
+    let lights = scene.lights.iter().filter_map(|l| match l {
+        Light::Environment { radiance } => Some(*radiance),
+        _ => None,
+    });
+    let radiance = lights.reduce(|a, b| a + b)?;
+    let glossy = scene
+        .materials
+        .iter()
+        .map(|m| (m.phong.specular > 0.0).then(|| env.lobe(Ibl::phong_exponent(m.phong.shininess))))
+        .collect();
+    Some(Ibl { radiance, diffuse: env.lobe(1.0), glossy })
 }
 
 fn ms(t: Instant) -> f64 {

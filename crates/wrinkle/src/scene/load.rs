@@ -69,6 +69,12 @@ impl Scene {
             .map(|(i, v)| procedural::parse_volume(&format!("volumes[{i}]"), v))
             .collect::<Result<Vec<_>>>()?;
         let environment = top.get("environment").map(|v| parse_environment(v, base)).transpose()?;
+        if let (Some(i), None) = (lights.iter().position(|l| matches!(l, Light::Environment { .. })), &environment) {
+            return Err(Error::scene(
+                format!("lights[{i}].type"),
+                "\"environment\" lights the scene with its [environment] map: add one",
+            ));
+        }
         Ok(Scene { camera, lights, objects, materials, volumes, environment })
     }
 }
@@ -167,14 +173,14 @@ fn parse_light(path: &str, v: &Value) -> Result<Light> {
             only("direction", "\"directional\"")?;
             Ok(Light::Point { position: f.required("position", f.vec3("position")?)?, radiance })
         }
-        "ambient" => {
+        "ambient" | "environment" => {
             only("direction", "\"directional\"")?;
             only("position", "\"point\"")?;
-            Ok(Light::Ambient { radiance })
+            Ok(if kind == "ambient" { Light::Ambient { radiance } } else { Light::Environment { radiance } })
         }
         other => Err(Error::scene(
             f.at("type"),
-            format!("expected one of \"directional\", \"point\", \"ambient\", got {}", quoted(other)),
+            format!("expected one of \"directional\", \"point\", \"ambient\", \"environment\", got {}", quoted(other)),
         )),
     }
 }

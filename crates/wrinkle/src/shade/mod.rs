@@ -20,6 +20,7 @@ use crate::lanes::{CmpLt, F8, LANES, V3};
 use crate::light::Light;
 use crate::texture::{Filter, FilterOptions, Footprint8, LookupContext8, SurfaceLanes, UvSet8};
 use glam::Vec3;
+use std::sync::Arc;
 
 /// What the shader needs besides the surface: the eye, the lights, the materials and switches.
 pub struct ShadeContext<'a> {
@@ -35,6 +36,40 @@ pub struct ShadeContext<'a> {
     pub bump_filter: Option<Filter>,
     /// What reflecting materials mirror.
     pub environment: Option<&'a Environment>,
+    /// The environment as a light, where the scene has one.
+    pub ibl: Option<Ibl>,
+}
+
+/// Image-based lighting: the scene's environment lights diffuse surfaces through its cosine-convolved map
+/// and glossy ones through its map convolved with their Phong lobe.
+pub struct Ibl {
+    /// The environment lights' colour times intensity, summed.
+    pub radiance: Vec3,
+    /// Irradiance over pi (the lobe of exponent 1).
+    pub diffuse: Arc<Environment>,
+    /// Per material, its specular lobe's convolution where it has a highlight.
+    pub glossy: Vec<Option<Arc<Environment>>>,
+}
+
+impl Ibl {
+    /// The Phong exponent of a Blinn-Phong shininess: the lobe about R that (N.H)^n makes about H, about a
+    /// quarter as wide in angle squared (the usual rule, exact near the mirror direction at normal view).
+    pub fn phong_exponent(shininess: f32) -> f32 {
+        (shininess / 4.0).max(1.0)
+    }
+
+    /// Diffuse albedo x C_1(N) + ks x C_s(R), times the lights' radiance.
+    #[inline(never)]
+    fn shade8(&self, material: usize, n: V3, v: V3, albedo: V3, ks: F8) -> V3 {
+        let still = V3::ZERO;
+        let mut c = albedo * self.diffuse.radiance8(&n, &still, &still);
+        if let Some(glossy) = &self.glossy[material] {
+            let nv = n.dot(v);
+            let r = n * (nv + nv) - v;
+            c = c + glossy.radiance8(&r, &still, &still) * ks;
+        }
+        c * V3::splat(self.radiance)
+    }
 }
 
 /// What a material's mappings need of a sample beyond its position, frame and (u,v).
@@ -310,6 +345,9 @@ impl ShadeContext<'_> {
         let mut color = V3::ZERO;
         for light in self.lights {
             color = color + phong.shade8(light, position, n, v, albedo, ks, exponent);
+        }
+        if let Some(ibl) = &self.ibl {
+            color = color + ibl.shade8(inst.material, n, v, albedo, ks);
         }
         if material.emits() {
             color = color + emission.unwrap_or(V3::splat(material.emission));

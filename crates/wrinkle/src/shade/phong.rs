@@ -32,6 +32,8 @@ impl Phong {
                 (d * (F8::ONE / d2.sqrt()), V3::splat(radiance) * (F8::ONE / d2))
             }
             Light::Ambient { radiance } => return V3::splat(radiance) * albedo,
+            // Shaded from its convolved maps (shade::Ibl), which this lobe does not see.
+            Light::Environment { .. } => return V3::ZERO,
         };
         let ndotl = n.dot(l);
         let lit = ndotl.cmp_gt(F8::ZERO);
