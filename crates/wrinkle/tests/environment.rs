@@ -275,3 +275,27 @@ fn one_hot_environment_lights_along_the_cosine_lobe() {
     }
     assert!(lit > 100, "{lit} pixels well lit");
 }
+
+/// Chrome mapping needs no environment: a constant chrome map shows its colour times `strength` exactly;
+/// the slides' landscape is blue where the reflected ray looks up and brown where it looks down.
+#[test]
+fn chrome_mapping_looks_up_the_blurred_map_by_the_reflected_ray() {
+    let dir = scratch_dir("chrome");
+    write_rgba_exr(&dir.join("flat.exr"), &Image::new(2, 1, [0.5, 0.25, 2.0, 1.0]));
+    let sphere = |chrome: &str| {
+        format!(
+            "[camera]\neye = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\nbackground = [0.0, 0.0, 0.0]\n\n\
+             [[object]]\nshape = \"sphere\"\n[object.material]\ncolor = [0.0, 0.0, 0.0]\n[object.material.chrome]\n{chrome}\n"
+        )
+    };
+    let frame = render(&parse(&sphere("map = \"flat.exr\"\nstrength = [2.0, 1.0, 0.5]"), &dir));
+    let depth = frame.depth.as_ref().unwrap();
+    for (c, _) in frame.color.iter().zip(depth).filter(|(_, d)| d.is_finite()) {
+        assert!(Vec3::from(*c).distance(Vec3::new(1.0, 0.25, 1.0)) < 1e-4, "{c:?}");
+    }
+    let frame = render(&parse(&sphere("blur = 8.0"), &dir));
+    // Near the top of the disc the normal tilts up and back: R looks up; near the bottom, down.
+    let (top, bottom) = (frame.color[SIZE / 4 * SIZE + SIZE / 2], frame.color[SIZE * 3 / 4 * SIZE + SIZE / 2]);
+    assert!(top[2] > 1.3 * top[0], "sky above: {top:?}");
+    assert!(bottom[0] > 1.3 * bottom[2], "earth below: {bottom:?}");
+}

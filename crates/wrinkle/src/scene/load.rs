@@ -1,7 +1,7 @@
 //! Reading a scene from TOML, field by field, with paths resolved against the scene file's folder.
 
 use super::contain::contain_panics;
-use super::environment::parse_environment;
+use super::environment::{parse_chrome, parse_environment};
 use super::fields::{clip_backquoted, number_value, points, quoted, vec3_value, Fields};
 use super::layer::{parse_alpha_mode, parse_layers};
 use super::mapping::{parse_mapping, uv_list};
@@ -373,6 +373,7 @@ const MATERIAL_FIELDS: &[&str] = &[
     "displacement",
     "reflect",
     "fresnel",
+    "chrome",
 ];
 
 /// A material table; the fields it gives replace those of `under` (the default material, or the one a
@@ -430,6 +431,9 @@ fn parse_material(path: &str, v: &Value, base: &Path, under: Material) -> Result
     );
     material.reflect = colour(&f, "reflect", material.reflect)?;
     material.fresnel = f.boolean("fresnel", material.fresnel)?;
+    if let Some(c) = f.get("chrome") {
+        material.chrome = Some(parse_chrome(&f.at("chrome"), c, base)?);
+    }
     material.alpha_mode = parse_alpha_mode(&f, material.alpha_mode)?;
     if material.alpha_mode == AlphaMode::Blend && f.get("alpha_mode").is_some() {
         return Err(Error::scene(f.at("alpha_mode"), BLEND_NOT_BUILT));

@@ -4,8 +4,10 @@
 use super::layer::{Layer, Mode, Target};
 use super::phong::Phong;
 use crate::bump::{BumpMap, Displacement, TangentNormalMap};
+use crate::envmap::Environment;
 use crate::mapping::{MappedTexture, Mapping, Projection};
 use glam::Vec3;
+use std::sync::Arc;
 
 /// How a material's alpha is used (glTF's `alphaMode`).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -39,6 +41,17 @@ pub struct Material {
     pub reflect: Vec3,
     /// `reflect` is the reflectance at normal incidence, rising towards 1 at grazing angles (Schlick).
     pub fresnel: bool,
+    /// A chrome map of its own (the slides' chrome mapping), with or without a scene environment.
+    pub chrome: Option<Chrome>,
+}
+
+/// Chrome mapping: a view-independent, heavily blurred picture of surroundings looked up by the reflected
+/// view ray, added times `strength`; what is seen in it matters less than that it moves with the view.
+#[derive(Clone)]
+pub struct Chrome {
+    /// Already blurred (an environment convolved with a broad Phong lobe).
+    pub map: Arc<Environment>,
+    pub strength: Vec3,
 }
 
 impl Default for Material {
@@ -56,6 +69,7 @@ impl Default for Material {
             displacement: None,
             reflect: Vec3::ZERO,
             fresnel: false,
+            chrome: None,
         }
     }
 }

@@ -7,7 +7,7 @@ pub mod material;
 pub mod phong;
 
 pub use layer::{Layer, Mode, Target};
-pub use material::{AlphaMode, Material};
+pub use material::{AlphaMode, Chrome, Material};
 pub use phong::Phong;
 
 use crate::bump::blinn::{perturbed_normal8, perturbed_normal_sided8};
@@ -64,9 +64,7 @@ impl Ibl {
         let still = V3::ZERO;
         let mut c = albedo * self.diffuse.radiance8(&n, &still, &still);
         if let Some(glossy) = &self.glossy[material] {
-            let nv = n.dot(v);
-            let r = n * (nv + nv) - v;
-            c = c + glossy.radiance8(&r, &still, &still) * ks;
+            c = c + glossy.radiance8(&reflected(n, v), &still, &still) * ks;
         }
         c * V3::splat(self.radiance)
     }
@@ -352,6 +350,10 @@ impl ShadeContext<'_> {
         if material.emits() {
             color = color + emission.unwrap_or(V3::splat(material.emission));
         }
+        if let Some(chrome) = &material.chrome {
+            let still = V3::ZERO;
+            color = color + chrome.map.radiance8(&reflected(n, v), &still, &still) * V3::splat(chrome.strength);
+        }
         if let (Some(env), true) = (self.environment, material.reflects()) {
             let mirror = Mirror { n, v, back, distance: self.ortho_to_eye.is_none().then_some(depth) };
             color = color + mirror.reflection(inst, material, env, &surface);
@@ -359,6 +361,13 @@ impl ShadeContext<'_> {
         let uv = uv.unwrap_or(at.uv);
         ShadedPacket { color, normal: n, depth, uv }
     }
+}
+
+/// The view vector `v` (towards the eye) mirrored about the unit normal `n`: R = 2 (N.V) N - V.
+#[inline]
+fn reflected(n: V3, v: V3) -> V3 {
+    let nv = n.dot(v);
+    n * (nv + nv) - v
 }
 
 /// What the reflection of eight samples needs: the world shading normal and the unit vector to the eye,
@@ -379,7 +388,7 @@ impl Mirror {
     fn reflection(&self, inst: &Instance, material: &Material, env: &Environment, surface: &SurfaceLanes) -> V3 {
         let (n, v) = (self.n, self.v);
         let nv = n.dot(v);
-        let r = n * (nv + nv) - v;
+        let r = reflected(n, v);
         let world = |d: V3| V3::transform_vector(&inst.object_to_world, d);
         let turned = |d: V3| {
             // The normal's change, as the world normal sees it (and turned over where the normal is).
