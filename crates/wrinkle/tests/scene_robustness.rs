@@ -212,3 +212,26 @@ fn syntax_errors_in_huge_files_are_one_short_line() {
     }
     std::fs::remove_file(&file).unwrap();
 }
+
+/// Billboards and environments: what does not apply, or cannot be, is named.
+#[test]
+fn billboard_and_environment_mistakes_are_named() {
+    for (body, want) in [
+        (
+            "[[object]]\nshape = \"billboard\"\ntransform = { rotate = [0.0, 30.0, 0.0] }",
+            "objects[0].transform: a billboard turns towards the camera and takes its size from width and height: give it only translate",
+        ),
+        ("[[object]]\nshape = \"billboard\"\naxis = [0.0, 0.0, 0.0]\nalign = \"axis\"", "objects[0].axis: must be a direction, not [0, 0, 0]"),
+        ("[[object]]\nshape = \"billboard\"\naxis = [0.0, 1.0, 0.0]", "objects[0].axis: only for align = \"world\" or \"axis\""),
+        ("[[object]]\nshape = \"billboard\"\nradius = 2.0", "objects[0].radius: not a field of shape \"billboard\" (it has: width, height, align, axis)"),
+        ("[[object]]\nshape = \"sphere\"\nalign = \"axis\"", "objects[0].align: not a field of shape \"sphere\""),
+        ("[[light]]\ntype = \"environment\"", "lights[1].type: \"environment\" lights the scene with its [environment] map: add one"),
+        ("[environment]\nlayout = \"latlong\"", "environment.map: missing"),
+        ("[environment]\nmap = \"maps/sky.hdr\"\nintensity = -1.0", "environment.intensity"),
+        ("[[object]]\nshape = \"sphere\"\nmaterial = { chrome = { blur = 0.5 } }", "objects[0].material.chrome.blur"),
+    ] {
+        let got = error_of(body);
+        assert!(got.starts_with(want), "{body}: {got}");
+    }
+    parses("[[object]]\nshape = \"billboard\"\nalign = \"axis\"\naxis = [0.0, 0.0, 1.0]\ntransform = { translate = [1.0, 0.0, 0.0] }");
+}

@@ -2,6 +2,7 @@
 //! transforms, and tessellation into triangles that carry (u,v) so the rasterizer can find which (u,v)
 //! lands in each pixel.
 
+pub mod billboard;
 pub mod dice;
 pub mod frame_lanes;
 pub mod mesh;

@@ -1,6 +1,7 @@
 //! The shapes a scene names, and the primitives the renderer draws: parametric surfaces (a box is six
 //! patches) and triangle meshes, each placed in the world as an instance.
 
+use super::billboard::{Billboard, Viewer};
 use super::mesh::TriangleMesh;
 use super::surface::Surface;
 use glam::{Affine3A, Mat3, Vec3};
@@ -16,6 +17,8 @@ pub enum Shape {
     },
     /// The meshes of a model file, each with its own material.
     Mesh(Vec<MeshPart>),
+    /// A rectangle turned towards the camera every frame, centred on the object's origin.
+    Billboard(Billboard),
 }
 
 /// One mesh of a model with the material it is drawn with.
@@ -48,6 +51,11 @@ impl Shape {
                 faces.iter().map(|&corners| Primitive::Parametric(Surface::Patch { corners })).collect()
             }
             Shape::Mesh(parts) => parts.iter().map(|p| Primitive::Mesh(p.mesh.clone())).collect(),
+            // Unturned (facing +Z) where no camera is given: `Billboard::corners` turns it.
+            Shape::Billboard(b) => {
+                let viewer = Viewer { right: Vec3::X, up: Vec3::Y, back: Vec3::Z, eye: None };
+                vec![Primitive::Parametric(Surface::Patch { corners: b.corners(Vec3::ZERO, &viewer) })]
+            }
         }
     }
 
@@ -56,7 +64,7 @@ impl Shape {
         match self {
             Shape::Surface(s) => s.is_closed(),
             Shape::Box { .. } => true,
-            Shape::Mesh(_) => false,
+            Shape::Mesh(_) | Shape::Billboard(_) => false,
         }
     }
 }

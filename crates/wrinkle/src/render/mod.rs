@@ -7,10 +7,11 @@ mod frame;
 pub use frame::{Aovs, Frame, Stats, NO_PRIMITIVE};
 
 use crate::envmap::Environment;
+use crate::geometry::billboard::Viewer;
 use crate::geometry::frame_lanes::Frame8;
 use crate::geometry::mesh_lanes;
 use crate::geometry::tessellate::{grid, segments_for, Mesh};
-use crate::geometry::{Instance, Primitive, TriangleMesh};
+use crate::geometry::{Instance, Primitive, Shape, Surface, TriangleMesh};
 use crate::lanes::{mask_of, F8, LANES, V3};
 use crate::light::Light;
 use crate::limits::Limit;
@@ -26,6 +27,7 @@ use crate::texture::{Filter, Footprint8};
 use crate::{Error, Result};
 use glam::{Affine3A, Quat, Vec2, Vec3};
 use rayon::prelude::*;
+use std::borrow::Cow;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
@@ -250,17 +252,31 @@ fn ms(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
 
-/// Every primitive of every object, placed in the world.
+/// Every primitive of every object, placed in the world; billboards turned towards the camera.
 fn instances(scene: &Scene, camera: &Camera, turntable_degrees: f32) -> Vec<Instance> {
     let pivot = scene.camera.look_at;
     let spin = Affine3A::from_translation(pivot)
         * Affine3A::from_quat(Quat::from_rotation_y(turntable_degrees.to_radians()))
         * Affine3A::from_translation(-pivot);
+    let axes = camera.camera_to_world.matrix3;
+    let viewer = Viewer {
+        right: axes.x_axis.into(),
+        up: axes.y_axis.into(),
+        back: axes.z_axis.into(),
+        eye: camera.is_perspective().then_some(camera.eye),
+    };
     let mut out = Vec::new();
     for (index, object) in scene.objects.iter().enumerate() {
         let object_to_world = spin * object.transform.matrix();
+        let (shape, object_to_world) = match &object.shape {
+            Shape::Billboard(b) => {
+                let corners = b.corners(object_to_world.transform_point3(Vec3::ZERO), &viewer);
+                (Cow::Owned(Shape::Surface(Surface::Patch { corners })), Affine3A::IDENTITY)
+            }
+            shape => (Cow::Borrowed(shape), object_to_world),
+        };
         out.extend(Instance::of_shape(
-            &object.shape,
+            &shape,
             object_to_world,
             camera.world_to_camera,
             object.material,

@@ -11,6 +11,7 @@ use super::{CameraDesc, Object, Scene};
 use crate::bump::function::filter_choices;
 use crate::bump::generators::{BrickParams, Generator, GridParams, RivetParams, TextParams};
 use crate::bump::{BumpFormula, BumpMap, BumpSource, BumpTable, Displacement, DisplacementMode, Parallax};
+use crate::geometry::billboard::{Align, Billboard};
 use crate::geometry::{MeshPart, Shape, Surface, Transform};
 use crate::image::io;
 use crate::light::Light;
@@ -200,6 +201,9 @@ const SHAPE_FIELDS: &[&str] = &[
     "uv_corners",
     "points",
     "size",
+    "width",
+    "align",
+    "axis",
 ];
 
 /// An object, its material and (for a model file) its meshes' materials, pushed onto `materials`.
@@ -226,11 +230,12 @@ fn parse_object(path: &str, v: &Value, base: &Path, materials: &mut Vec<Material
         "patch" => &["corners", "uv_corners"],
         "bicubic" => &["points"],
         "box" => &["size"],
+        "billboard" => &["width", "height", "align", "axis"],
         other => {
             return Err(Error::scene(
                 f.at("shape"),
                 format!(
-                    "unknown shape {} (expected one of sphere, cylinder, torus, patch, bicubic, box, mesh)",
+                    "unknown shape {} (expected one of sphere, cylinder, torus, patch, bicubic, box, mesh, billboard)",
                     quoted(other)
                 ),
             ))
@@ -250,6 +255,28 @@ fn parse_object(path: &str, v: &Value, base: &Path, materials: &mut Vec<Material
             let v = f.required("corners", f.get("corners"))?;
             let c = points(&f.at("corners"), v, 4)?;
             Shape::Surface(Surface::Patch { corners: [c[0], c[1], c[2], c[3]] })
+        }
+        "billboard" => {
+            if transform.rotate != Vec3::ZERO || transform.scale != Vec3::ONE {
+                return Err(Error::scene(
+                    f.at("transform"),
+                    "a billboard turns towards the camera and takes its size from width and height: give it only translate",
+                ));
+            }
+            let axis = f.vec3("axis")?.unwrap_or(Vec3::Y);
+            if axis.length() == 0.0 || !axis.is_finite() {
+                return Err(Error::scene(f.at("axis"), "must be a direction, not [0, 0, 0]"));
+            }
+            let align = f.choice("align", Align::Screen, &Align::NAMES)?;
+            if f.get("axis").is_some() && align == Align::Screen {
+                return Err(Error::scene(f.at("axis"), "only for align = \"world\" or \"axis\""));
+            }
+            Shape::Billboard(Billboard {
+                width: len("width", 1.0)?,
+                height: len("height", 1.0)?,
+                align,
+                axis: axis.normalize(),
+            })
         }
         "bicubic" => {
             let v = f.required("points", f.get("points"))?;
