@@ -299,3 +299,51 @@ fn chrome_mapping_looks_up_the_blurred_map_by_the_reflected_ray() {
     assert!(top[2] > 1.3 * top[0], "sky above: {top:?}");
     assert!(bottom[0] > 1.3 * bottom[2], "earth below: {bottom:?}");
 }
+
+/// `reflect_views`: a mirror sphere sees the scene in six views from its centroid. A red patch beside it
+/// shows where the ray from the centroid along R meets the patch, black where it misses (away from the
+/// patch's outline by a few texels of the 128-pixel faces).
+#[test]
+fn rendered_views_mirror_the_scene_about_the_centroid() {
+    let text = "[camera]\neye = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\nbackground = [0.0, 0.0, 0.0]\n\n\
+                [[light]]\ntype = \"ambient\"\n\n\
+                [[object]]\nshape = \"sphere\"\nradius = 0.6\n[object.material]\ncolor = [0.0, 0.0, 0.0]\n\
+                reflect = [1.0, 1.0, 1.0]\nreflect_views = 128\n\n\
+                [[object]]\nshape = \"patch\"\ncorners = [[-2.0, -1.0, 1.5], [-2.0, -1.0, -1.5], [-2.0, 1.5, -1.5], [-2.0, 1.5, 1.5]]\n\
+                [object.material]\ncolor = [1.0, 0.0, 0.0]\n";
+    let frame = render(&parse(text, Path::new(".")));
+    let cam = RefCamera::perspective([0.0, 0.0, 4.0], [0.0; 3], [0.0, 1.0, 0.0], 40.0, SIZE, SIZE);
+    let (mut red, mut black) = (0, 0);
+    for j in 0..SIZE {
+        for i in 0..SIZE {
+            let (o, d) = cam.pixel_ray(i, j);
+            // The sphere of radius 0.6 at the origin.
+            let b = o.dot(d);
+            let disc = b * b - (o.length_squared() - 0.36);
+            if disc < 1e-3 {
+                continue;
+            }
+            let p = o + d * (-b - disc.sqrt());
+            let r = reflect(d, p.normalize());
+            // The ray from the centroid along R against the plane x = -2.
+            let hit = (r.x < 0.0).then(|| r * (-2.0 / r.x)).filter(|h| h.y > -1.0 && h.y < 1.5 && h.z.abs() < 1.5);
+            let margin = |h: DVec3| (h.y + 1.0).min(1.5 - h.y).min(1.5 - h.z.abs());
+            let got = frame.color[j * SIZE + i];
+            match hit {
+                Some(h) if margin(h) > 0.1 => {
+                    assert!(
+                        (got[0] - 1.0).abs() < 1e-3 && got[1].abs() < 1e-3,
+                        "pixel ({i}, {j}) sees the patch: {got:?}"
+                    );
+                    red += 1;
+                }
+                None if r.x > -0.2 => {
+                    assert!(got[0] < 1e-3, "pixel ({i}, {j}) sees nothing: {got:?}");
+                    black += 1;
+                }
+                _ => {}
+            }
+        }
+    }
+    assert!(red > 50 && black > 200, "{red} red, {black} black");
+}

@@ -3,6 +3,7 @@
 
 mod displace;
 mod frame;
+mod views;
 
 pub use frame::{Aovs, Frame, Stats, NO_PRIMITIVE};
 
@@ -21,7 +22,7 @@ use crate::raster::refine::{affine_uv8, refine_uv8};
 use crate::raster::setup::ProjectedVertex;
 use crate::raster::visibility::EMPTY;
 use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
-use crate::scene::Scene;
+use crate::scene::{CameraDesc, Scene};
 use crate::shade::{Ibl, MappingNeeds, ShadeContext, ShadedSample, SurfaceSamples8};
 use crate::texture::{Filter, Footprint8};
 use crate::{Error, Result};
@@ -108,16 +109,39 @@ pub fn render_with_progress(
     options: &RenderOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Frame> {
+    render_view(scene, &View { camera: &scene.camera, hidden: None, object_views: true }, options, progress)
+}
+
+/// What one render sees the scene through.
+struct View<'a> {
+    camera: &'a CameraDesc,
+    /// An object left out (the one whose surroundings a cube map's views show).
+    hidden: Option<u32>,
+    /// Whether objects with `reflect_views` get their six views rendered (not within those views).
+    object_views: bool,
+}
+
+fn render_view(
+    scene: &Scene,
+    view: &View,
+    options: &RenderOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Frame> {
     options.validate()?;
     let (w, h) = (options.width, options.height);
     let aovs = Aovs { alpha: options.transparent || options.aovs.alpha, ..options.aovs };
     crate::limits::reserve((w * h) as u64 * aovs.bytes_per_pixel(), || format!("a {w}x{h} frame"))?;
     let mut stats = Stats::default();
-    let cam = &scene.camera;
+    let cam = view.camera;
     let camera = Camera::new(cam.eye, cam.look_at, cam.up, cam.projection, w as u32, h as u32);
+    let object_views = match view.object_views {
+        true => views::object_views(scene, options, &camera)?,
+        false => Vec::new(),
+    };
 
     let t = Instant::now();
     let mut instances = instances(scene, &camera, options.turntable_degrees);
+    instances.retain(|i| Some(i.object) != view.hidden);
     let mut diced = displace::displace(&mut instances, &scene.materials, &camera)?;
     let meshes: Vec<Triangles> = instances
         .par_iter()
@@ -171,6 +195,7 @@ pub fn render_with_progress(
         bump_enabled: options.bump,
         bump_filter: options.bump_filter,
         environment: scene.environment.as_ref().map(|e| &e.map),
+        object_views: &object_views,
         ibl: ibl(scene),
     };
     let cutoffs: Vec<Option<f32>> = instances.iter().map(|i| scene.materials[i.material].alpha_cutoff()).collect();

@@ -400,6 +400,7 @@ const MATERIAL_FIELDS: &[&str] = &[
     "displacement",
     "reflect",
     "fresnel",
+    "reflect_views",
     "chrome",
 ];
 
@@ -458,6 +459,13 @@ fn parse_material(path: &str, v: &Value, base: &Path, under: Material) -> Result
     );
     material.reflect = colour(&f, "reflect", material.reflect)?;
     material.fresnel = f.boolean("fresnel", material.fresnel)?;
+    material.reflect_views = f.integer_where("reflect_views", material.reflect_views, 0, 4096)?;
+    if material.reflect_views > 0 && !material.reflects() {
+        return Err(Error::scene(
+            f.at("reflect_views"),
+            "mirrors the scene for a material that reflects: give reflect too",
+        ));
+    }
     if let Some(c) = f.get("chrome") {
         material.chrome = Some(parse_chrome(&f.at("chrome"), c, base)?);
     }

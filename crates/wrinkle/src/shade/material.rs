@@ -41,6 +41,9 @@ pub struct Material {
     pub reflect: Vec3,
     /// `reflect` is the reflectance at normal incidence, rising towards 1 at grazing angles (Schlick).
     pub fresnel: bool,
+    /// Mirror the scene itself, rendered each frame as six views of this many pixels square from the
+    /// object's centroid (0: mirror the scene's environment).
+    pub reflect_views: usize,
     /// A chrome map of its own (the slides' chrome mapping), with or without a scene environment.
     pub chrome: Option<Chrome>,
 }
@@ -69,6 +72,7 @@ impl Default for Material {
             displacement: None,
             reflect: Vec3::ZERO,
             fresnel: false,
+            reflect_views: 0,
             chrome: None,
         }
     }

@@ -36,6 +36,8 @@ pub struct ShadeContext<'a> {
     pub bump_filter: Option<Filter>,
     /// What reflecting materials mirror.
     pub environment: Option<&'a Environment>,
+    /// Per object, the six views rendered from its centroid that it mirrors instead (`reflect_views`).
+    pub object_views: &'a [Option<Environment>],
     /// The environment as a light, where the scene has one.
     pub ibl: Option<Ibl>,
 }
@@ -354,7 +356,8 @@ impl ShadeContext<'_> {
             let still = V3::ZERO;
             color = color + chrome.map.radiance8(&reflected(n, v), &still, &still) * V3::splat(chrome.strength);
         }
-        if let (Some(env), true) = (self.environment, material.reflects()) {
+        let mirrored = self.object_views.get(inst.object as usize).and_then(Option::as_ref).or(self.environment);
+        if let (Some(env), true) = (mirrored, material.reflects()) {
             let mirror = Mirror { n, v, back, distance: self.ortho_to_eye.is_none().then_some(depth) };
             color = color + mirror.reflection(inst, material, env, &surface);
         }
