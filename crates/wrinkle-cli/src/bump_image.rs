@@ -127,6 +127,7 @@ pub fn scene(args: &BumpArgs, table: BumpTable, texture: Option<FilteredTexture>
         materials: vec![material],
         volumes: Vec::new(),
         environment: None,
+        slides: Vec::new(),
     })
 }
 

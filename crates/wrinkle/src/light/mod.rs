@@ -1,6 +1,10 @@
 //! Lights as plain data: what shines where. How a surface or a volume reflects them is the shader's
 //! business (shade/phong.rs, procedural/hypertexture.rs); this module knows nothing of materials.
 
+pub mod spot;
+
+pub use spot::Spot;
+
 use glam::Vec3;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -11,6 +15,8 @@ pub enum Light {
     Point { position: Vec3, radiance: Vec3 },
     /// Light from everywhere, reflected diffusely without regard to the normal.
     Ambient { radiance: Vec3 },
+    /// A point light limited to a cone, perhaps projecting a slide.
+    Spot(Spot),
     /// The scene's environment map as a light (image-based lighting), its radiance times `radiance`.
     Environment { radiance: Vec3 },
 }

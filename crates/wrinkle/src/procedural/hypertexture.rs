@@ -211,6 +211,13 @@ impl Hypertexture {
                             let d2 = d.length_squared().max(1e-12);
                             radiance / d2 * n.dot(d / d2.sqrt()).max(0.0)
                         }
+                        // The cone, not the slide.
+                        Light::Spot(spot) => {
+                            let d = spot.position - x;
+                            let d2 = d.length_squared().max(1e-12);
+                            let cone = spot.cone8(crate::lanes::V3::splat(x)).as_array_ref()[0];
+                            spot.radiance * cone / d2 * n.dot(d / d2.sqrt()).max(0.0)
+                        }
                         Light::Ambient { radiance } => radiance,
                         // Volumes are not lit by the environment map (yet).
                         Light::Environment { .. } => Vec3::ZERO,

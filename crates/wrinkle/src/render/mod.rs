@@ -197,6 +197,7 @@ fn render_view(
         environment: scene.environment.as_ref().map(|e| &e.map),
         object_views: &object_views,
         ibl: ibl(scene),
+        slides: &scene.slides,
     };
     let cutoffs: Vec<Option<f32>> = instances.iter().map(|i| scene.materials[i.material].alpha_cutoff()).collect();
     let replacing: Vec<bool> =

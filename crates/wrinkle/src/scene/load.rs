@@ -14,14 +14,14 @@ use crate::bump::{BumpFormula, BumpMap, BumpSource, BumpTable, Displacement, Dis
 use crate::geometry::billboard::{Align, Billboard};
 use crate::geometry::{MeshPart, Shape, Surface, Transform};
 use crate::image::io;
-use crate::light::Light;
+use crate::light::{Light, Spot};
 use crate::mapping::polygon::QuadMapping;
 use crate::mapping::{Projection as MapProjection, UvTransform};
 use crate::procedural::solid::Space;
 use crate::raster::Projection;
 use crate::shade::{AlphaMode, Layer, Material, Phong, Target};
 use crate::texture::reconstruct::Kernel;
-use crate::texture::{Filter, FilterOptions, TextureOptions};
+use crate::texture::{Filter, FilterOptions, FilteredTexture, TextureOptions, Wrap};
 use crate::{Error, Result};
 use glam::{Vec2, Vec3};
 use std::path::{Path, PathBuf};
@@ -52,11 +52,12 @@ impl Scene {
         let root: Value = toml::from_str::<toml::Table>(text).map(Value::Table).map_err(|e| toml_error(text, &e))?;
         let top = Fields::new("", &root, &["camera", "light", "object", "volume", "environment"])?;
         let camera = parse_camera(top.get("camera").ok_or_else(|| Error::scene("camera", "missing table [camera]"))?)?;
+        let mut slides = Vec::new();
         let lights = top
             .tables("light")?
             .iter()
             .enumerate()
-            .map(|(i, v)| parse_light(&format!("lights[{i}]"), v))
+            .map(|(i, v)| parse_light(&format!("lights[{i}]"), v, base, &mut slides))
             .collect::<Result<Vec<_>>>()?;
         let mut objects = Vec::new();
         let mut materials = Vec::new();
@@ -76,7 +77,7 @@ impl Scene {
                 "\"environment\" lights the scene with its [environment] map: add one",
             ));
         }
-        Ok(Scene { camera, lights, objects, materials, volumes, environment })
+        Ok(Scene { camera, lights, objects, materials, volumes, environment, slides })
     }
 }
 
@@ -150,38 +151,67 @@ pub(super) fn colour(f: &Fields, key: &str, default: Vec3) -> Result<Vec3> {
     Ok(c)
 }
 
-fn parse_light(path: &str, v: &Value) -> Result<Light> {
-    let f = Fields::new(path, v, &["type", "direction", "position", "color", "intensity"])?;
+/// A light; a spot light's slide is loaded onto `slides`.
+fn parse_light(path: &str, v: &Value, base: &Path, slides: &mut Vec<FilteredTexture>) -> Result<Light> {
+    let f = Fields::new(
+        path,
+        v,
+        &["type", "direction", "position", "color", "intensity", "angle", "falloff", "up", "texture"],
+    )?;
     let radiance = colour(&f, "color", Vec3::ONE)?
         * f.number_where("intensity", Some(1.0), non_negative, "a non-negative intensity")?;
     let kind = f.required("type", f.string("type")?)?;
-    let only = |key: &str, kinds: &str| -> Result<()> {
-        match f.get(key) {
-            Some(_) => Err(Error::scene(f.at(key), format!("only for lights of type {kinds}"))),
-            None => Ok(()),
+    let allowed: &[&str] = match kind {
+        "directional" => &["direction"],
+        "point" => &["position"],
+        "spot" => &["position", "direction", "angle", "falloff", "up", "texture"],
+        _ => &[],
+    };
+    f.only_of_kind(
+        &["direction", "position", "angle", "falloff", "up", "texture"],
+        allowed,
+        &format!("lights of type {}", quoted(kind)),
+    )?;
+    let direction = || -> Result<Vec3> {
+        let d = f.required("direction", f.vec3("direction")?)?;
+        if d.length() == 0.0 || !d.is_finite() {
+            return Err(Error::scene(f.at("direction"), "must not be [0, 0, 0]"));
         }
+        Ok(d.normalize())
     };
     match kind {
-        "directional" => {
-            only("position", "\"point\"")?;
-            let d = f.required("direction", f.vec3("direction")?)?;
-            if d.length() == 0.0 {
-                return Err(Error::scene(f.at("direction"), "must not be [0, 0, 0]"));
+        "directional" => Ok(Light::Directional { direction: direction()?, radiance }),
+        "point" => Ok(Light::Point { position: f.required("position", f.vec3("position")?)?, radiance }),
+        "spot" => {
+            let position = f.required("position", f.vec3("position")?)?;
+            let angle = f.number_where(
+                "angle",
+                Some(30.0),
+                |a| a > 0.0 && a < 89.0,
+                "degrees from the axis, above 0 and below 89",
+            )?;
+            let falloff = f.number_where("falloff", Some(5.0), |x| x >= 0.0, "degrees, at least 0")?;
+            if falloff > angle {
+                return Err(Error::scene(f.at("falloff"), format!("at most the cone's angle ({angle} degrees)")));
             }
-            Ok(Light::Directional { direction: d.normalize(), radiance })
+            let up = f.vec3("up")?.unwrap_or(Vec3::Y);
+            let mut spot = Spot::new(position, direction()?, up, angle, falloff, radiance);
+            if let Some(name) = f.string("texture")? {
+                let file = resolve(base, &f.at("texture"), name)?;
+                let options = TextureOptions { wrap: [Wrap::Border; 2], ..TextureOptions::default() };
+                slides.push(load_texture(&file, true, options)?.0);
+                spot.slide = Some(slides.len() - 1);
+            }
+            Ok(Light::Spot(spot))
         }
-        "point" => {
-            only("direction", "\"directional\"")?;
-            Ok(Light::Point { position: f.required("position", f.vec3("position")?)?, radiance })
-        }
-        "ambient" | "environment" => {
-            only("direction", "\"directional\"")?;
-            only("position", "\"point\"")?;
-            Ok(if kind == "ambient" { Light::Ambient { radiance } } else { Light::Environment { radiance } })
-        }
+        "ambient" => Ok(Light::Ambient { radiance }),
+        "environment" => Ok(Light::Environment { radiance }),
         other => Err(Error::scene(
             f.at("type"),
-            format!("expected one of \"directional\", \"point\", \"ambient\", \"environment\", got {}", quoted(other)),
+            format!(
+                "expected one of \"directional\", \"point\", \"spot\", \"ambient\", \"environment\", got {}",
+                quoted(other)
+            ),
         )),
     }
 }

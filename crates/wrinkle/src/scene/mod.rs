@@ -23,6 +23,7 @@ use crate::light::Light;
 use crate::procedural::hypertexture::Hypertexture;
 use crate::raster::Projection;
 use crate::shade::Material;
+use crate::texture::FilteredTexture;
 use glam::Vec3;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -52,6 +53,8 @@ pub struct Scene {
     /// Hypertextured volumes, ray marched over the opaque scene.
     pub volumes: Vec<Hypertexture>,
     pub environment: Option<SceneEnvironment>,
+    /// The pictures spot lights project (`Spot::slide` indexes them).
+    pub slides: Vec<FilteredTexture>,
 }
 
 /// The light arriving from far away in every direction.

@@ -17,8 +17,10 @@ use crate::geometry::frame_lanes::Frame8;
 use crate::geometry::mesh_lanes::MeshFrame8;
 use crate::geometry::Instance;
 use crate::lanes::{CmpLt, F8, LANES, V3};
-use crate::light::Light;
-use crate::texture::{Filter, FilterOptions, Footprint8, LookupContext8, SurfaceLanes, UvSet8};
+use crate::light::{Light, Spot};
+use crate::texture::{
+    Filter, FilterOptions, FilteredTexture, Footprint, Footprint8, LookupContext8, SurfaceLanes, UvSet8,
+};
 use glam::Vec3;
 use std::sync::Arc;
 
@@ -40,6 +42,8 @@ pub struct ShadeContext<'a> {
     pub object_views: &'a [Option<Environment>],
     /// The environment as a light, where the scene has one.
     pub ibl: Option<Ibl>,
+    /// The pictures spot lights project.
+    pub slides: &'a [FilteredTexture],
 }
 
 /// Image-based lighting: the scene's environment lights diffuse surfaces through its cosine-convolved map
@@ -230,6 +234,31 @@ impl ShadeContext<'_> {
         alpha
     }
 
+    /// What a spot light lets through to eight points: its cone's falloff, times the slide it projects
+    /// there (filtered over where the pixel's footprint falls on the slide; black outside it).
+    #[inline(never)]
+    fn spot_tint8(&self, spot: &Spot, inst: &Instance, position: V3, surface: &SurfaceLanes) -> V3 {
+        let cone = spot.cone8(position);
+        let Some(slide) = spot.slide.map(|k| &self.slides[k]) else { return V3 { x: cone, y: cone, z: cone } };
+        let (s, t, z) = spot.slide8(position);
+        let at = |d: V3| spot.slide8(position + V3::transform_vector(&inst.object_to_world, d));
+        let ((sx, tx, _), (sy, ty, _)) = (at(surface.dpdx), at(surface.dpdy));
+        let (s, t, z, cone) = (s.to_array(), t.to_array(), z.to_array(), cone.to_array());
+        let (ds, dt) = (
+            [sx - F8::new(s), sy - F8::new(s)].map(|d| d.to_array()),
+            [tx - F8::new(t), ty - F8::new(t)].map(|d| d.to_array()),
+        );
+        let mut out = V3::ZERO;
+        for i in 0..LANES {
+            if z[i] <= 0.0 || cone[i] == 0.0 {
+                continue;
+            }
+            let footprint = Footprint { dudx: ds[0][i], dvdx: dt[0][i], dudy: ds[1][i], dvdy: dt[1][i] };
+            out.set_lane(i, slide.lookup(s[i], t[i], &footprint).truncate() * cone[i]);
+        }
+        out
+    }
+
     /// Shades eight samples of one primitive. Lookups go through their lane forms; everything else runs
     /// on all lanes at once.
     #[inline]
@@ -344,7 +373,12 @@ impl ShadeContext<'_> {
         };
         let mut color = V3::ZERO;
         for light in self.lights {
-            color = color + phong.shade8(light, position, n, v, albedo, ks, exponent);
+            let lit = phong.shade8(light, position, n, v, albedo, ks, exponent);
+            color = color
+                + match light {
+                    Light::Spot(spot) => lit * self.spot_tint8(spot, inst, position, &surface),
+                    _ => lit,
+                };
         }
         if let Some(ibl) = &self.ibl {
             color = color + ibl.shade8(inst.material, n, v, albedo, ks);

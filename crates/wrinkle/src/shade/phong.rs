@@ -1,7 +1,7 @@
 //! The Blinn-Phong reflection of one light.
 
 use crate::lanes::{CmpGt, F8, V3};
-use crate::light::Light;
+use crate::light::{Light, Spot};
 
 /// The specular lobe of Blinn-Phong: specular (N.H)^shininess.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -26,7 +26,8 @@ impl Phong {
     pub fn shade8(&self, light: &Light, p: V3, n: V3, v: V3, albedo: V3, ks: F8, exponent: Option<F8>) -> V3 {
         let (l, radiance) = match *light {
             Light::Directional { direction, radiance } => (V3::splat(-direction), V3::splat(radiance)),
-            Light::Point { position, radiance } => {
+            // A spot is a point light here; its cone and slide tint the result (ShadeContext::shade8).
+            Light::Point { position, radiance } | Light::Spot(Spot { position, radiance, .. }) => {
                 let d = V3::splat(position) - p;
                 let d2 = d.dot(d);
                 (d * (F8::ONE / d2.sqrt()), V3::splat(radiance) * (F8::ONE / d2))
