@@ -63,12 +63,8 @@ fn alpha_is_coverage_and_colour_is_premultiplied() {
                     sum += (f64::from(a) - area).abs();
                 }
             }
-            for c in 0..3 {
-                assert!(
-                    (frame.color[k][c] - albedo[c] * a).abs() < 1e-6,
-                    "pixel ({x}, {y}): {:?} at alpha {a}",
-                    frame.color[k]
-                );
+            for (got, albedo) in frame.color[k].iter().zip(albedo) {
+                assert!((got - albedo * a).abs() < 1e-6, "pixel ({x}, {y}): {:?} at alpha {a}", frame.color[k]);
             }
         }
     }

@@ -101,7 +101,7 @@ mod tests {
             filter: FilterOptions { filter: Filter::Ewa, ..FilterOptions::default() },
             ..EnvironmentOptions::default()
         };
-        let env = Environment::new(Layout::LatLong, &[source.clone()], options).unwrap();
+        let env = Environment::new(Layout::LatLong, std::slice::from_ref(&source), options).unwrap();
         for to in [Layout::Cube, Layout::Sphere, Layout::Paraboloid] {
             let size = matching_size(Layout::LatLong, h, to);
             let there = Environment::new(to, &convert(&env, to, size), options).unwrap();

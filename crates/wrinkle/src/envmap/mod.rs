@@ -219,10 +219,10 @@ mod tests {
             Ok(_) => panic!("accepted"),
         };
         assert_eq!(
-            err(Layout::LatLong, &[square.clone()]),
+            err(Layout::LatLong, std::slice::from_ref(&square)),
             "a latlong map's images are twice as wide as high, got 4x4"
         );
-        assert_eq!(err(Layout::Cube, &[square.clone()]), "a cube map has 6 image(s), got 1");
+        assert_eq!(err(Layout::Cube, std::slice::from_ref(&square)), "a cube map has 6 image(s), got 1");
         let mut faces = vec![square; 6];
         faces[3] = Image::new(8, 8, [0.0; 4]);
         assert_eq!(err(Layout::Cube, &faces), "the images of a cube map must be one size: 4x4 and 8x8");
