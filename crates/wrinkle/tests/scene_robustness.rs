@@ -183,12 +183,12 @@ fn errors_echo_at_most_sixty_characters_of_a_value() {
     assert_eq!(
         error_of("[[object]]\nshape = \"cube\\nor \\\"box\\\"\"\n"),
         "objects[0].shape: unknown shape \"cube\\nor \\\"box\\\"\" (expected one of sphere, cylinder, torus, patch, \
-         bicubic, box, mesh)"
+         bicubic, box, mesh, billboard)"
     );
     assert_eq!(
         error_of("[[object]]\nshape = \"sphere\"\n\"rad\\nius\" = 1\n"),
         "objects[0].\"rad\\nius\": unknown field (expected one of: shape, transform, material, file, two_sided, \
-         interp, radius, height, major_radius, minor_radius, corners, uv_corners, points, size)"
+         interp, radius, height, major_radius, minor_radius, corners, uv_corners, points, size, width, align, axis)"
     );
 }
 
