@@ -5,6 +5,7 @@
 use super::chart::Layout;
 use super::cube::Arrangement;
 use crate::image::{io, Image};
+use crate::limits;
 use crate::{Error, Result};
 use std::path::PathBuf;
 
@@ -56,6 +57,11 @@ pub fn load(paths: &[PathBuf], layout: Option<Layout>) -> Result<(Layout, Vec<Im
         }
         _ => pictures,
     };
+    // The float pyramids (4/3 of the texels, 16 bytes each), a cube's faces grown by a quarter per side.
+    let texels: u64 = images.iter().map(|i| (i.width * i.height) as u64).sum();
+    limits::reserve(texels * 16 * 4 / 3 * 25 / 16, || {
+        format!("{}: an environment of {texels} texels", first.display())
+    })?;
     Ok((layout, images))
 }
 

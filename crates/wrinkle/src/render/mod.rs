@@ -191,7 +191,11 @@ fn render_view(
         ortho_to_eye: (!camera.is_perspective()).then(|| camera.camera_to_world.transform_vector3(Vec3::Z).normalize()),
         lights: &scene.lights,
         materials: &scene.materials,
-        needs: scene.materials.iter().map(|m| MappingNeeds::of(m, scene.environment.is_some())).collect(),
+        needs: scene
+            .materials
+            .iter()
+            .map(|m| MappingNeeds::of(m, scene.environment.is_some() || m.reflect_views > 0))
+            .collect(),
         bump_enabled: options.bump,
         bump_filter: options.bump_filter,
         environment: scene.environment.as_ref().map(|e| &e.map),
