@@ -37,13 +37,13 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let scene = args.frame.load_scene(args.scene.as_deref())?;
     render(&scene, &options)?;
     let mut totals = Vec::with_capacity(args.frames);
-    let mut stages: [Vec<f64>; 4] = Default::default();
+    let mut stages: [Vec<f64>; 5] = Default::default();
     for _ in 0..args.frames {
         let t = std::time::Instant::now();
         let frame = render(&scene, &options)?;
         totals.push(t.elapsed().as_secs_f64() * 1e3);
         let s = frame.stats;
-        for (v, x) in stages.iter_mut().zip([s.tessellate_ms, s.setup_ms, s.bin_ms, s.raster_shade_ms]) {
+        for (v, x) in stages.iter_mut().zip([s.tessellate_ms, s.setup_ms, s.bin_ms, s.shadow_ms, s.raster_shade_ms]) {
             v.push(x);
         }
     }
@@ -51,7 +51,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let med = median(&mut totals);
     let mpix = (options.width * options.height) as f64 / (med * 1e3);
     println!(
-        "median_ms={med:.2} min_ms={min:.2} mpixel_per_s={mpix:.1} frames={} size={}x{} spp={} bump={} threads={} tessellate_ms={:.2} setup_ms={:.2} bin_ms={:.2} raster_shade_ms={:.2}",
+        "median_ms={med:.2} min_ms={min:.2} mpixel_per_s={mpix:.1} frames={} size={}x{} spp={} bump={} threads={} tessellate_ms={:.2} setup_ms={:.2} bin_ms={:.2} shadow_ms={:.2} raster_shade_ms={:.2}",
         args.frames,
         options.width,
         options.height,
@@ -62,6 +62,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         median(&mut stages[1]),
         median(&mut stages[2]),
         median(&mut stages[3]),
+        median(&mut stages[4]),
     );
     Ok(())
 }

@@ -10,7 +10,7 @@ use wrinkle::bump::schlag::light_direction;
 use wrinkle::bump::{BumpFormula, BumpMap, BumpSource, BumpTable};
 use wrinkle::geometry::{Shape, Surface, Transform};
 use wrinkle::image::io::{load_grey, load_rgba8};
-use wrinkle::light::Light;
+use wrinkle::light::{Light, ShadowSettings};
 use wrinkle::mapping::{MappedTexture, Mapping};
 use wrinkle::raster::Projection;
 use wrinkle::scene::{CameraDesc, Object};
@@ -117,6 +117,7 @@ pub fn scene(args: &BumpArgs, table: BumpTable, texture: Option<FilteredTexture>
             projection: Projection::Orthographic { height: h },
             background: Vec3::ZERO,
         },
+        shadows: vec![ShadowSettings::OFF; lights.len()],
         lights,
         objects: vec![Object {
             shape: Shape::Surface(Surface::Patch { corners }),

@@ -191,12 +191,13 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         if args.stats {
             let s = &frame.stats;
             eprintln!(
-                "{}: tessellate {:.1} ms, setup {:.1} ms ({} triangles), bin {:.1} ms, raster+shade+resolve {:.1} ms, encode+write {:.1} ms",
+                "{}: tessellate {:.1} ms, setup {:.1} ms ({} triangles), bin {:.1} ms, shadow maps {:.1} ms, raster+shade+resolve {:.1} ms, encode+write {:.1} ms",
                 out.display(),
                 s.tessellate_ms,
                 s.setup_ms,
                 s.triangles,
                 s.bin_ms,
+                s.shadow_ms,
                 s.raster_shade_ms,
                 t.elapsed().as_secs_f64() * 1e3
             );

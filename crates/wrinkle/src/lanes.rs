@@ -21,6 +21,13 @@ pub fn mask_of(bits: u8) -> F8 {
     F8::new(std::array::from_fn(|i| if bits >> i & 1 == 1 { f32::from_bits(u32::MAX) } else { 0.0 }))
 }
 
+/// A lane mask of integer comparisons (each lane all ones or all zeros) as one for `F8::blend`.
+#[inline]
+pub fn bits(mask: I8) -> F8 {
+    // SAFETY: `I8` and `F8` are both eight 32-bit lanes; the bits are kept as they are.
+    unsafe { std::mem::transmute::<I8, F8>(mask) }
+}
+
 /// `values[index]` per lane. An index outside the slice reads its nearest end instead, never memory outside.
 #[inline]
 pub fn gather(values: &[f32], index: I8) -> F8 {

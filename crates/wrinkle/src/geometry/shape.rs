@@ -59,6 +59,16 @@ impl Shape {
         }
     }
 
+    /// Whether no part of the shape can cast a shadow onto another part's lit side: convex solids and
+    /// flat pieces (their shadow maps then need not test them against themselves).
+    pub fn cannot_shadow_itself(&self) -> bool {
+        match self {
+            Shape::Surface(s) => s.cannot_shadow_itself(),
+            Shape::Box { .. } | Shape::Billboard(_) => true,
+            Shape::Mesh(_) => false,
+        }
+    }
+
     /// Whether the shape encloses a volume, so faces turned away from the eye are never seen.
     pub fn is_closed(&self) -> bool {
         match self {

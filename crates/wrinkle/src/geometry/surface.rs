@@ -90,6 +90,19 @@ impl Surface {
         matches!(self, Surface::Sphere { .. } | Surface::Torus { .. })
     }
 
+    /// Whether no part of the surface can hide another part's side facing a light: a sphere, or a flat
+    /// patch (four corners in one plane).
+    pub fn cannot_shadow_itself(&self) -> bool {
+        match self {
+            Surface::Sphere { .. } => true,
+            Surface::Patch { corners: [a, b, c, d] } => {
+                let n = (*b - *a).cross(*d - *a);
+                (*c - *a).dot(n).abs() <= 1e-6 * n.length() * (*c - *a).length()
+            }
+            _ => false,
+        }
+    }
+
     /// Whether P is affine in (u,v) (a flat parallelogram): two triangles then carry (u,v) exactly.
     pub fn is_parallelogram(&self) -> bool {
         match self {

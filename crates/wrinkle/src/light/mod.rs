@@ -1,8 +1,10 @@
 //! Lights as plain data: what shines where. How a surface or a volume reflects them is the shader's
 //! business (shade/phong.rs, procedural/hypertexture.rs); this module knows nothing of materials.
 
+pub mod shadow;
 pub mod spot;
 
+pub use shadow::{ShadowMap, ShadowSettings, Shadows};
 pub use spot::Spot;
 
 use glam::Vec3;

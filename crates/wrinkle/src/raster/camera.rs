@@ -103,6 +103,35 @@ impl Camera {
 }
 
 impl Camera {
+    /// Screen positions of eight camera-space points (`project` on every lane).
+    #[inline]
+    pub fn project8(&self, p: V3) -> (F8, F8) {
+        let (cx, cy) = (F8::splat(0.5 * self.width as f32), F8::splat(0.5 * self.height as f32));
+        let k = F8::splat(self.scale);
+        match self.projection {
+            Projection::Perspective { .. } => {
+                let q = k / -p.z;
+                (cx + p.x * q, cy - p.y * q)
+            }
+            Projection::Orthographic { .. } => (cx + p.x * k, cy - p.y * k),
+        }
+    }
+
+    /// `project_derivative` on every lane.
+    #[inline]
+    pub fn project_derivative8(&self, p: V3, d: V3) -> (F8, F8) {
+        let k = F8::splat(self.scale);
+        match self.projection {
+            Projection::Perspective { .. } => {
+                let inv_w = F8::ONE / -p.z;
+                let (x_w, y_w) = (p.x * inv_w, p.y * inv_w);
+                let kw = k * inv_w;
+                (x_w.mul_add(d.z, d.x) * kw, -(y_w.mul_add(d.z, d.y) * kw))
+            }
+            Projection::Orthographic { .. } => (d.x * k, -d.y * k),
+        }
+    }
+
     /// The camera-space rays through eight screen positions (directions not unit), with their changes per
     /// `step` pixels right and down: the ray differentials of a sample whose footprint is `step` pixels.
     #[inline]

@@ -5,7 +5,7 @@
 //! For the usual short step the frame at the refined (u,v) comes from the second-order Taylor expansion of
 //! the one already evaluated (what that leaves out is below f32 precision); longer steps evaluate it again.
 
-use super::camera::{Camera, Projection};
+use super::camera::Camera;
 use super::setup::ScreenTriangle;
 use crate::geometry::frame_lanes::Frame8;
 use crate::geometry::Surface;
@@ -70,9 +70,9 @@ impl OnScreen8 {
     #[inline(always)]
     pub fn of(camera: &Camera, object_to_camera: &Affine3A, frame: &Frame8) -> OnScreen8 {
         let p = V3::transform_point(object_to_camera, frame.p);
-        let (x, y) = project8(camera, p);
-        let su = project_derivative8(camera, p, V3::transform_vector(object_to_camera, frame.pu));
-        let sv = project_derivative8(camera, p, V3::transform_vector(object_to_camera, frame.pv));
+        let (x, y) = camera.project8(p);
+        let su = camera.project_derivative8(p, V3::transform_vector(object_to_camera, frame.pu));
+        let sv = camera.project_derivative8(p, V3::transform_vector(object_to_camera, frame.pv));
         OnScreen8 { x, y, su, sv }
     }
 
@@ -95,35 +95,6 @@ impl OnScreen8 {
     pub fn uv_derivatives(&self) -> [F8; 4] {
         let inv_det = F8::ONE / self.det();
         [self.sv.1 * inv_det, -self.su.1 * inv_det, -self.sv.0 * inv_det, self.su.0 * inv_det]
-    }
-}
-
-/// Screen positions of eight camera-space points (Camera::project on every lane).
-#[inline]
-fn project8(camera: &Camera, p: V3) -> (F8, F8) {
-    let (cx, cy) = (F8::splat(0.5 * camera.width as f32), F8::splat(0.5 * camera.height as f32));
-    let k = F8::splat(camera.scale);
-    match camera.projection {
-        Projection::Perspective { .. } => {
-            let q = k / -p.z;
-            (cx + p.x * q, cy - p.y * q)
-        }
-        Projection::Orthographic { .. } => (cx + p.x * k, cy - p.y * k),
-    }
-}
-
-/// Camera::project_derivative on every lane.
-#[inline]
-fn project_derivative8(camera: &Camera, p: V3, d: V3) -> (F8, F8) {
-    let k = F8::splat(camera.scale);
-    match camera.projection {
-        Projection::Perspective { .. } => {
-            let inv_w = F8::ONE / -p.z;
-            let (x_w, y_w) = (p.x * inv_w, p.y * inv_w);
-            let kw = k * inv_w;
-            (x_w.mul_add(d.z, d.x) * kw, -(y_w.mul_add(d.z, d.y) * kw))
-        }
-        Projection::Orthographic { .. } => (d.x * k, -d.y * k),
     }
 }
 

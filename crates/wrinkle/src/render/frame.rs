@@ -45,6 +45,8 @@ pub struct Stats {
     pub setup_ms: f64,
     pub bin_ms: f64,
     pub raster_shade_ms: f64,
+    /// Rendering the lights' shadow maps.
+    pub shadow_ms: f64,
     pub triangles: usize,
 }
 

@@ -3,6 +3,7 @@
 
 mod displace;
 mod frame;
+mod shadows;
 mod views;
 
 pub use frame::{Aovs, Frame, Stats, NO_PRIMITIVE};
@@ -139,42 +140,15 @@ fn render_view(
         false => Vec::new(),
     };
 
-    let t = Instant::now();
-    let mut instances = instances(scene, &camera, options.turntable_degrees);
-    instances.retain(|i| Some(i.object) != view.hidden);
-    let mut diced = displace::displace(&mut instances, &scene.materials, &camera)?;
-    let meshes: Vec<Triangles> = instances
-        .par_iter()
-        .zip(diced.par_iter_mut())
-        .map(|(inst, diced)| match (&inst.primitive, diced.take()) {
-            (_, Some(diced)) => Triangles::Diced(diced),
-            (Primitive::Parametric(surface), None) => {
-                let (nu, nv) = match surface.is_parallelogram() {
-                    true => (1, 1),
-                    false => segments_for(surface, SEGMENT_PX, SAG_PX, |p| {
-                        camera.pixels_per_unit(inst.object_to_world.transform_point3(p))
-                    }),
-                };
-                Triangles::Grid(grid(surface, nu, nv))
-            }
-            (Primitive::Mesh(mesh), None) => Triangles::Mesh(mesh),
-        })
-        .collect();
-    let max_steps: Vec<Vec2> = meshes
-        .iter()
-        .map(|m| match m {
-            Triangles::Grid(g) => Vec2::new(1.0 / g.segments.0 as f32, 1.0 / g.segments.1 as f32),
-            Triangles::Mesh(_) | Triangles::Diced(_) => Vec2::ZERO,
-        })
-        .collect();
-    stats.tessellate_ms = ms(t);
-
-    let t = Instant::now();
-    let first_triangles = first_triangles(&instances, &meshes);
-    let triangles = setup_triangles(&camera, &instances, &meshes, &first_triangles);
-    stats.triangles = triangles.len();
-    stats.setup_ms = ms(t);
-
+    // Every primitive placed for a camera (billboards turned towards it), less the hidden object.
+    let placed_for = |camera: &Camera| {
+        let mut placed = instances(scene, camera, options.turntable_degrees);
+        placed.retain(|i| Some(i.object) != view.hidden);
+        placed
+    };
+    let mut instances = placed_for(&camera);
+    let diced = displace::displace(&mut instances, &scene.materials, &camera)?;
+    let drawn = Drawn::new(&instances, diced, &camera, &mut stats);
     let t = Instant::now();
     let pattern = SamplePattern::new(options.spp).expect("validated");
     let tile_size = match options.spp {
@@ -182,11 +156,10 @@ fn render_view(
         4 => 32,
         _ => 16,
     };
-    let bins = Bins::new(&triangles, w, h, tile_size);
+    let bins = Bins::new(&drawn.triangles, w, h, tile_size);
     stats.bin_ms = ms(t);
 
-    let t = Instant::now();
-    let shade_ctx = ShadeContext {
+    let mut shade_ctx = ShadeContext {
         eye: cam.eye,
         ortho_to_eye: (!camera.is_perspective()).then(|| camera.camera_to_world.transform_vector3(Vec3::Z).normalize()),
         lights: &scene.lights,
@@ -202,8 +175,15 @@ fn render_view(
         object_views: &object_views,
         ibl: ibl(scene),
         slides: &scene.slides,
+        shadows: None,
     };
     let cutoffs: Vec<Option<f32>> = instances.iter().map(|i| scene.materials[i.material].alpha_cutoff()).collect();
+    let t = Instant::now();
+    let shadows = shadows::shadows(scene, &instances, &drawn, &placed_for, &shade_ctx, &cutoffs, w.max(h))?;
+    shade_ctx.shadows = shadows.as_ref();
+    stats.shadow_ms = ms(t);
+
+    let t = Instant::now();
     let replacing: Vec<bool> =
         instances.iter().map(|i| options.bump && scene.materials[i.material].replaces_depth()).collect();
     // A transparent background: black and alpha 0 where nothing is seen, colour premultiplied by coverage.
@@ -211,24 +191,13 @@ fn render_view(
     let mut frame = Frame::new(w, h, aovs, background);
     let band_len = tile_size * w;
     let job = TileJob {
-        bins: &bins,
-        camera: &camera,
-        max_steps: &max_steps,
-        first_triangles: &first_triangles,
-        triangles: &triangles,
-        pattern: &pattern,
-        instances: &instances,
-        shade: &shade_ctx,
         background,
         aovs,
         sample_cell: (1.0 / options.spp as f32).sqrt(),
         volumes: &scene.volumes,
         sky: scene.environment.as_ref().filter(|e| e.background && !options.transparent).map(|e| &e.map),
         lights: &scene.lights,
-        cutoffs: &cutoffs,
-        any_masked: cutoffs.iter().any(Option::is_some),
-        replacing: &replacing,
-        any_replacing: replacing.contains(&true),
+        ..TileJob::visibility(&drawn, &bins, &camera, &pattern, &instances, &shade_ctx, &cutoffs, &replacing)
     };
     let (bands_done, bands) = (AtomicUsize::new(0), bins.tiles_y);
     let band_aovs: Vec<frame::AovBand> = frame
@@ -236,15 +205,7 @@ fn render_view(
         .par_chunks_mut(band_len)
         .enumerate()
         .map_init(
-            || TileScratch {
-                vis: VisBuffer::new(tile_size, options.spp),
-                shaded: Vec::new(),
-                sky: Vec::new(),
-                candidates: Vec::new(),
-                missed: Vec::new(),
-                refused: Vec::new(),
-                replaced: Vec::new(),
-            },
+            || TileScratch::new(tile_size, options.spp),
             |scratch, (ty, color)| {
                 let mut aov = frame::AovBand::new(aovs, color.len(), options.spp);
                 for tx in 0..bins.tiles_x {
@@ -348,6 +309,56 @@ impl Triangles<'_> {
     }
 }
 
+/// What the rasterizer draws of a scene seen through one camera: each instance's triangles, and all of
+/// them set up on its screen.
+struct Drawn<'a> {
+    meshes: Vec<Triangles<'a>>,
+    /// Per surface, the longest (u,v) step of the ray-exact refinement: one tessellation segment.
+    max_steps: Vec<Vec2>,
+    /// Per surface, the number within its object of its first triangle.
+    first_triangles: Vec<u32>,
+    triangles: Vec<ScreenTriangle>,
+}
+
+impl<'a> Drawn<'a> {
+    /// Tessellates the instances' surfaces for `camera` (or takes their diced or mesh triangles) and sets
+    /// every triangle up, timing both stages into `stats`.
+    fn new(instances: &'a [Instance], mut diced: Vec<Option<Mesh>>, camera: &Camera, stats: &mut Stats) -> Drawn<'a> {
+        let t = Instant::now();
+        let meshes: Vec<Triangles> = instances
+            .par_iter()
+            .zip(diced.par_iter_mut())
+            .map(|(inst, diced)| match (&inst.primitive, diced.take()) {
+                (_, Some(diced)) => Triangles::Diced(diced),
+                (Primitive::Parametric(surface), None) => {
+                    let (nu, nv) = match surface.is_parallelogram() {
+                        true => (1, 1),
+                        false => segments_for(surface, SEGMENT_PX, SAG_PX, |p| {
+                            camera.pixels_per_unit(inst.object_to_world.transform_point3(p))
+                        }),
+                    };
+                    Triangles::Grid(grid(surface, nu, nv))
+                }
+                (Primitive::Mesh(mesh), None) => Triangles::Mesh(mesh),
+            })
+            .collect();
+        let max_steps = meshes
+            .iter()
+            .map(|m| match m {
+                Triangles::Grid(g) => Vec2::new(1.0 / g.segments.0 as f32, 1.0 / g.segments.1 as f32),
+                Triangles::Mesh(_) | Triangles::Diced(_) => Vec2::ZERO,
+            })
+            .collect();
+        stats.tessellate_ms += ms(t);
+        let t = Instant::now();
+        let first_triangles = first_triangles(instances, &meshes);
+        let triangles = setup_triangles(camera, instances, &meshes, &first_triangles);
+        stats.triangles += triangles.len();
+        stats.setup_ms += ms(t);
+        Drawn { meshes, max_steps, first_triangles, triangles }
+    }
+}
+
 /// Each primitive's first triangle's number within its object: the triangles of the object's earlier
 /// primitives come first.
 fn first_triangles(instances: &[Instance], meshes: &[Triangles]) -> Vec<u32> {
@@ -447,9 +458,48 @@ struct TileJob<'a> {
     /// Per surface, whether its depth is a parallax crossing's (depth replacement).
     replacing: &'a [bool],
     any_replacing: bool,
+    /// Whether samples that the outline test finds on the exact surface take its depth (a shadow map's
+    /// texels) or keep their triangle's, widened past the chord (a frame's, whose shading finds the depth).
+    exact_depth: bool,
 }
 
-impl TileJob<'_> {
+impl<'a> TileJob<'a> {
+    /// A job that finds what each sample of `drawn` sees (the outline, alpha and depth-replacement tests
+    /// included), over no background, volumes or AOVs: what a shadow map needs; a frame adds the rest.
+    #[allow(clippy::too_many_arguments)]
+    fn visibility(
+        drawn: &'a Drawn,
+        bins: &'a Bins,
+        camera: &'a Camera,
+        pattern: &'a SamplePattern,
+        instances: &'a [Instance],
+        shade: &'a ShadeContext<'a>,
+        cutoffs: &'a [Option<f32>],
+        replacing: &'a [bool],
+    ) -> TileJob<'a> {
+        TileJob {
+            bins,
+            camera,
+            max_steps: &drawn.max_steps,
+            first_triangles: &drawn.first_triangles,
+            triangles: &drawn.triangles,
+            pattern,
+            instances,
+            shade,
+            background: Vec3::ZERO,
+            aovs: Aovs::default(),
+            sample_cell: 1.0,
+            volumes: &[],
+            sky: None,
+            lights: &[],
+            cutoffs,
+            any_masked: cutoffs.iter().any(Option::is_some),
+            replacing,
+            any_replacing: replacing.contains(&true),
+            exact_depth: false,
+        }
+    }
+
     /// What the samples that see no object show, where the environment is the background: the environment
     /// along their rays, filtered over each ray's change across the sample's share of the pixel, eight at
     /// a time, into `sky` (by sample).
@@ -687,6 +737,10 @@ impl TileJob<'_> {
                 let (to_camera, to_object) = (&inst.object_to_camera, &inst.camera_to_object);
                 let (hits, (u, v)) =
                     exact8(self.camera, surface, to_camera, to_object, start, screen, max_step, tested);
+                let key = self.exact_depth.then(|| {
+                    let p = V3::transform_point(to_camera, surface.frame8(u, v).p);
+                    if self.camera.is_perspective() { F8::ONE / -p.z } else { p.z }.to_array()
+                });
                 let (u, v) = (u.as_array_ref(), v.as_array_ref());
                 for i in 0..packet.len {
                     let k = packet.samples[i];
@@ -694,6 +748,9 @@ impl TileJob<'_> {
                         missed.push(k);
                     } else if tested >> i & 1 == 1 {
                         vis.exact_uv[k] = [u[i], v[i]];
+                        if let Some(key) = key {
+                            vis.depth[k] = key[i];
+                        }
                     }
                 }
             },
@@ -869,6 +926,20 @@ struct TileScratch {
     missed: Vec<usize>,
     refused: Vec<usize>,
     replaced: Vec<Replaced>,
+}
+
+impl TileScratch {
+    fn new(tile_size: usize, spp: usize) -> TileScratch {
+        TileScratch {
+            vis: VisBuffer::new(tile_size, spp),
+            shaded: Vec::new(),
+            sky: Vec::new(),
+            candidates: Vec::new(),
+            missed: Vec::new(),
+            refused: Vec::new(),
+            replaced: Vec::new(),
+        }
+    }
 }
 
 /// Up to eight covered samples of one surface, waiting to be shaded together.

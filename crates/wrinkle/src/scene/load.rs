@@ -14,7 +14,7 @@ use crate::bump::{BumpFormula, BumpMap, BumpSource, BumpTable, Displacement, Dis
 use crate::geometry::billboard::{Align, Billboard};
 use crate::geometry::{MeshPart, Shape, Surface, Transform};
 use crate::image::io;
-use crate::light::{Light, Spot};
+use crate::light::{Light, ShadowSettings, Spot};
 use crate::mapping::polygon::QuadMapping;
 use crate::mapping::{Projection as MapProjection, UvTransform};
 use crate::procedural::solid::Space;
@@ -59,6 +59,7 @@ impl Scene {
             .enumerate()
             .map(|(i, v)| parse_light(&format!("lights[{i}]"), v, base, &mut slides))
             .collect::<Result<Vec<_>>>()?;
+        let (lights, shadows): (Vec<Light>, Vec<ShadowSettings>) = lights.into_iter().unzip();
         let mut objects = Vec::new();
         let mut materials = Vec::new();
         for (i, v) in top.tables("object")?.iter().enumerate() {
@@ -77,7 +78,7 @@ impl Scene {
                 "\"environment\" lights the scene with its [environment] map: add one",
             ));
         }
-        Ok(Scene { camera, lights, objects, materials, volumes, environment, slides })
+        Ok(Scene { camera, lights, shadows, objects, materials, volumes, environment, slides })
     }
 }
 
@@ -151,27 +152,51 @@ pub(super) fn colour(f: &Fields, key: &str, default: Vec3) -> Result<Vec3> {
     Ok(c)
 }
 
-/// A light; a spot light's slide is loaded onto `slides`.
-fn parse_light(path: &str, v: &Value, base: &Path, slides: &mut Vec<FilteredTexture>) -> Result<Light> {
+/// A light and how it casts shadows; a spot light's slide is loaded onto `slides`.
+fn parse_light(
+    path: &str,
+    v: &Value,
+    base: &Path,
+    slides: &mut Vec<FilteredTexture>,
+) -> Result<(Light, ShadowSettings)> {
     let f = Fields::new(
         path,
         v,
-        &["type", "direction", "position", "color", "intensity", "angle", "falloff", "up", "texture"],
+        &[
+            "type",
+            "direction",
+            "position",
+            "color",
+            "intensity",
+            "angle",
+            "falloff",
+            "up",
+            "texture",
+            "shadow",
+            "shadow_size",
+            "shadow_bias",
+        ],
     )?;
     let radiance = colour(&f, "color", Vec3::ONE)?
         * f.number_where("intensity", Some(1.0), non_negative, "a non-negative intensity")?;
     let kind = f.required("type", f.string("type")?)?;
+    const SHADOW: [&str; 3] = ["shadow", "shadow_size", "shadow_bias"];
     let allowed: &[&str] = match kind {
-        "directional" => &["direction"],
-        "point" => &["position"],
-        "spot" => &["position", "direction", "angle", "falloff", "up", "texture"],
+        "directional" => &["direction", SHADOW[0], SHADOW[1], SHADOW[2]],
+        "point" => &["position", SHADOW[0], SHADOW[1], SHADOW[2]],
+        "spot" => &["position", "direction", "angle", "falloff", "up", "texture", SHADOW[0], SHADOW[1], SHADOW[2]],
         _ => &[],
     };
     f.only_of_kind(
-        &["direction", "position", "angle", "falloff", "up", "texture"],
+        &["direction", "position", "angle", "falloff", "up", "texture", SHADOW[0], SHADOW[1], SHADOW[2]],
         allowed,
         &format!("lights of type {}", quoted(kind)),
     )?;
+    let shadow = ShadowSettings {
+        enabled: f.boolean("shadow", true)?,
+        size: f.get("shadow_size").map(|_| f.integer_where("shadow_size", 0, 16, 8192)).transpose()?,
+        bias: f.number_where("shadow_bias", Some(1.0), |b| (0.0..=100.0).contains(&b), "a bias scale from 0 to 100")?,
+    };
     let direction = || -> Result<Vec3> {
         let d = f.required("direction", f.vec3("direction")?)?;
         if d.length() == 0.0 || !d.is_finite() {
@@ -179,9 +204,9 @@ fn parse_light(path: &str, v: &Value, base: &Path, slides: &mut Vec<FilteredText
         }
         Ok(d.normalize())
     };
-    match kind {
-        "directional" => Ok(Light::Directional { direction: direction()?, radiance }),
-        "point" => Ok(Light::Point { position: f.required("position", f.vec3("position")?)?, radiance }),
+    let light = match kind {
+        "directional" => Light::Directional { direction: direction()?, radiance },
+        "point" => Light::Point { position: f.required("position", f.vec3("position")?)?, radiance },
         "spot" => {
             let position = f.required("position", f.vec3("position")?)?;
             let angle = f.number_where(
@@ -202,18 +227,21 @@ fn parse_light(path: &str, v: &Value, base: &Path, slides: &mut Vec<FilteredText
                 slides.push(load_texture(&file, true, options)?.0);
                 spot.slide = Some(slides.len() - 1);
             }
-            Ok(Light::Spot(spot))
+            Light::Spot(spot)
         }
-        "ambient" => Ok(Light::Ambient { radiance }),
-        "environment" => Ok(Light::Environment { radiance }),
-        other => Err(Error::scene(
-            f.at("type"),
-            format!(
-                "expected one of \"directional\", \"point\", \"spot\", \"ambient\", \"environment\", got {}",
-                quoted(other)
-            ),
-        )),
-    }
+        "ambient" => Light::Ambient { radiance },
+        "environment" => Light::Environment { radiance },
+        other => {
+            return Err(Error::scene(
+                f.at("type"),
+                format!(
+                    "expected one of \"directional\", \"point\", \"spot\", \"ambient\", \"environment\", got {}",
+                    quoted(other)
+                ),
+            ))
+        }
+    };
+    Ok((light, shadow))
 }
 
 const SHAPE_FIELDS: &[&str] = &[

@@ -19,7 +19,7 @@ pub use mapping::parse_mapping_text;
 
 use crate::envmap::Environment;
 use crate::geometry::{Shape, Transform};
-use crate::light::Light;
+use crate::light::{Light, ShadowSettings};
 use crate::procedural::hypertexture::Hypertexture;
 use crate::raster::Projection;
 use crate::shade::Material;
@@ -48,6 +48,8 @@ pub struct Object {
 pub struct Scene {
     pub camera: CameraDesc,
     pub lights: Vec<Light>,
+    /// How each light casts shadows (one per light, in the same order).
+    pub shadows: Vec<ShadowSettings>,
     pub objects: Vec<Object>,
     pub materials: Vec<Material>,
     /// Hypertextured volumes, ray marched over the opaque scene.

@@ -16,8 +16,8 @@ use crate::envmap::Environment;
 use crate::geometry::frame_lanes::Frame8;
 use crate::geometry::mesh_lanes::MeshFrame8;
 use crate::geometry::Instance;
-use crate::lanes::{CmpLt, F8, LANES, V3};
-use crate::light::{Light, Spot};
+use crate::lanes::{CmpGt, CmpLt, F8, LANES, V3};
+use crate::light::{Light, ShadowMap, Shadows, Spot};
 use crate::texture::{
     Filter, FilterOptions, FilteredTexture, Footprint, Footprint8, LookupContext8, SurfaceLanes, UvSet8,
 };
@@ -44,6 +44,8 @@ pub struct ShadeContext<'a> {
     pub ibl: Option<Ibl>,
     /// The pictures spot lights project.
     pub slides: &'a [FilteredTexture],
+    /// The lights' shadow maps, where any light casts shadows.
+    pub shadows: Option<&'a Shadows>,
 }
 
 /// Image-based lighting: the scene's environment lights diffuse surfaces through its cosine-convolved map
@@ -259,6 +261,22 @@ impl ShadeContext<'_> {
         out
     }
 
+    /// How much of a light reaches eight points by its shadow map (1 where `lit` is black in every lane:
+    /// nothing to darken).
+    #[inline(never)]
+    fn shadow8(&self, map: &ShadowMap, inst: &Instance, position: V3, surface: &SurfaceLanes, lit: V3) -> V3 {
+        let dark = |c: F8| c.cmp_gt(F8::ZERO).none();
+        if dark(lit.x) && dark(lit.y) && dark(lit.z) {
+            return V3 { x: F8::ONE, y: F8::ONE, z: F8::ONE };
+        }
+        let shadows = self.shadows.expect("a map comes with its shadows");
+        let own = shadows.self_shadowless[inst.object as usize].then_some(inst.object);
+        let world = |d: V3| V3::transform_vector(&inst.object_to_world, d);
+        let n = V3::mul_mat3(&inst.normal_matrix, surface.n).normalize_or_zero();
+        let k = map.visibility8(position, n, world(surface.dpdx), world(surface.dpdy), own);
+        V3 { x: k, y: k, z: k }
+    }
+
     /// Shades eight samples of one primitive. Lookups go through their lane forms; everything else runs
     /// on all lanes at once.
     #[inline]
@@ -372,13 +390,15 @@ impl ShadeContext<'_> {
             false => Phong { cutoff: 0.0, ..material.phong },
         };
         let mut color = V3::ZERO;
-        for light in self.lights {
-            let lit = phong.shade8(light, position, n, v, albedo, ks, exponent);
-            color = color
-                + match light {
-                    Light::Spot(spot) => lit * self.spot_tint8(spot, inst, position, &surface),
-                    _ => lit,
-                };
+        for (k, light) in self.lights.iter().enumerate() {
+            let mut lit = phong.shade8(light, position, n, v, albedo, ks, exponent);
+            if let Light::Spot(spot) = light {
+                lit = lit * self.spot_tint8(spot, inst, position, &surface);
+            }
+            if let Some(map) = self.shadows.and_then(|s| s.maps[k].as_ref()) {
+                lit = lit * self.shadow8(map, inst, position, &surface, lit);
+            }
+            color = color + lit;
         }
         if let Some(ibl) = &self.ibl {
             color = color + ibl.shade8(inst.material, n, v, albedo, ks);
