@@ -305,7 +305,7 @@ mod tests {
             16,
         );
         let depth = (0..256).map(|k| if k % 16 < 8 { 1.0 } else { f32::INFINITY }).collect();
-        let object = (0..256).map(|k| if k % 16 < 8 { 7 } else { EMPTY }).collect();
+        let object = (0..256).map(|k| if k % 16 < 8 { 7u32 } else { EMPTY }.to_le_bytes()).collect();
         ShadowMap { views: vec![ShadowView::new(camera, depth, object)], origin: Vec3::ZERO, bias: 1.0 }
     }
 

@@ -131,6 +131,7 @@ pub fn affine_uv8(
 mod tests {
     use super::*;
     use crate::geometry::SurfaceFrame;
+    use crate::raster::Projection;
     use glam::Vec3;
 
     /// One (u,v) refined in every lane; lane 3 is read back (all lanes agree).
