@@ -7,7 +7,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use wrinkle::bump::function::filter_choices;
 use wrinkle::image::output::OutputSet;
-use wrinkle::render::Aovs;
+use wrinkle::render::{Aovs, Transparency};
 use wrinkle::texture::reconstruct::Kernel;
 use wrinkle::texture::Filter;
 use wrinkle::{render_with_progress, Error, RenderOptions, Result, Scene};
@@ -70,6 +70,11 @@ pub struct FrameArgs {
     /// gaussian, lanczos (magnification only), trilinear, ripmap, sat, aniso, ewa, ...
     #[arg(long, value_parser = PossibleValuesParser::new(Filter::ALL.map(|(n, _)| n)))]
     pub filter: Option<String>,
+    /// How translucent (alpha_mode = "blend") surfaces are put in order: sorted (objects, then their
+    /// triangles, back to front: right unless translucent surfaces cross) or exact (each sample's own
+    /// fragments by depth, an A-buffer: right where they cross).
+    #[arg(long, default_value = "sorted", value_parser = ["sorted", "exact"])]
+    pub transparency: String,
 }
 
 impl FrameArgs {
@@ -81,6 +86,10 @@ impl FrameArgs {
             spp: self.spp,
             bump: !self.no_bump,
             bump_filter: self.bump_filter.as_deref().map(bump_filter),
+            transparency: match self.transparency.as_str() {
+                "exact" => Transparency::Exact,
+                _ => Transparency::Sorted,
+            },
             ..RenderOptions::default()
         };
         options.validate()?;

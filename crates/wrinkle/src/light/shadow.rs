@@ -223,7 +223,9 @@ impl ShadowView {
         let limit = F8::splat(1e6);
         let (x0, y0) = (x0.max(-limit).min(limit).round_int(), y0.max(-limit).min(limit).round_int());
         let own = I8::splat(own.map_or(-1, |o| o as i32));
-        let inside = |x: I8, y: I8| x.cmp_gt(I8::splat(-1)) & x.cmp_lt(I8::splat(w)) & y.cmp_gt(I8::splat(-1)) & y.cmp_lt(I8::splat(h));
+        let inside = |x: I8, y: I8| {
+            x.cmp_gt(I8::splat(-1)) & x.cmp_lt(I8::splat(w)) & y.cmp_gt(I8::splat(-1)) & y.cmp_lt(I8::splat(h))
+        };
         let mut shadowed = F8::ZERO;
         for (dy, wy) in [(0, F8::ONE - ay), (1, ay)] {
             for (dx, wx) in [(0, F8::ONE - ax), (1, ax)] {
@@ -233,7 +235,8 @@ impl ShadowView {
                 // SAFETY: `gather` clamps its indices into `depth`, which is as long as `object`; the same
                 // clamp is applied here.
                 let object = unsafe { gather_words(&self.object, index.max(I8::splat(0)).min(I8::splat(w * h - 1))) };
-                let offset = (x.round_float() + F8::splat(0.5) - sx) * gx + (y.round_float() + F8::splat(0.5) - sy) * gy;
+                let offset =
+                    (x.round_float() + F8::splat(0.5) - sx) * gx + (y.round_float() + F8::splat(0.5) - sy) * gy;
                 let occluded = depth.cmp_lt(compared + offset) & bits(inside(x, y) & !object.cmp_eq(own));
                 shadowed += occluded.blend(wx * wy, F8::ZERO);
             }

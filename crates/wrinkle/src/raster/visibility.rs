@@ -22,10 +22,21 @@ pub struct Bins {
 
 impl Bins {
     pub fn new(triangles: &[ScreenTriangle], width: usize, height: usize, tile_size: usize) -> Bins {
+        Bins::of(triangles, width, height, tile_size, |_| true)
+    }
+
+    /// The bins of the triangles that `keep` keeps (their indices still into all of `triangles`).
+    pub fn of(
+        triangles: &[ScreenTriangle],
+        width: usize,
+        height: usize,
+        tile_size: usize,
+        keep: impl Fn(&ScreenTriangle) -> bool,
+    ) -> Bins {
         let tiles_x = width.div_ceil(tile_size);
         let tiles_y = height.div_ceil(tile_size);
         let mut bins = vec![Vec::new(); tiles_x * tiles_y];
-        for (i, t) in triangles.iter().enumerate() {
+        for (i, t) in triangles.iter().enumerate().filter(|(_, t)| keep(t)) {
             let [x0, y0, x1, y1] = t.bbox.map(|c| c as usize / tile_size);
             for ty in y0..=y1 {
                 for tx in x0..=x1 {

@@ -120,6 +120,8 @@ impl Frame {
 #[derive(Default)]
 pub(super) struct AovSample {
     count: u32,
+    /// The samples' alpha summed: 1 for each covered one, what translucent surfaces cover of the others.
+    coverage: f32,
     normal: Vec3,
     uv: Vec2,
     depth: f32,
@@ -130,6 +132,7 @@ pub(super) struct AovSample {
 impl AovSample {
     pub fn clear(&mut self) {
         self.count = 0;
+        self.coverage = 0.0;
         self.normal = Vec3::ZERO;
         self.uv = Vec2::ZERO;
         self.depth = 0.0;
@@ -138,6 +141,7 @@ impl AovSample {
 
     pub fn add(&mut self, s: &ShadedSample, uv: Vec2, object: u32, triangle: u32) {
         self.count += 1;
+        self.coverage += 1.0;
         self.normal += s.normal;
         self.uv += uv;
         self.depth += s.depth;
@@ -145,6 +149,11 @@ impl AovSample {
             Some((_, n, _)) => *n += 1,
             None => self.objects.push((object, 1, triangle)),
         }
+    }
+
+    /// Adds what translucent surfaces cover of a sample no opaque surface covers.
+    pub fn cover(&mut self, alpha: f32) {
+        self.coverage += alpha;
     }
 
     /// The object covering most of the pixel's samples (the lower index on a tie) and its first triangle.
@@ -184,6 +193,9 @@ impl AovBand {
     /// Stores the pixel's AOVs from its covered samples (NaN stays where none was covered): the mean uv and
     /// depth, the mean normal made unit again, and the id of the object that covers most samples.
     pub fn set(&mut self, i: usize, s: &AovSample) {
+        if self.kinds.alpha {
+            self.alpha[i] = s.coverage * self.sample_share;
+        }
         if s.count == 0 {
             return;
         }
@@ -202,9 +214,6 @@ impl AovBand {
         }
         if self.kinds.primitive {
             self.primitive[i] = s.primitive();
-        }
-        if self.kinds.alpha {
-            self.alpha[i] = s.count as f32 * self.sample_share;
         }
     }
 }

@@ -4,9 +4,11 @@
 mod displace;
 mod frame;
 mod shadows;
+mod transparent;
 mod views;
 
 pub use frame::{Aovs, Frame, Stats, NO_PRIMITIVE};
+pub use transparent::{Transparency, MAX_LAYERS};
 
 use crate::envmap::Environment;
 use crate::geometry::billboard::Viewer;
@@ -24,7 +26,7 @@ use crate::raster::setup::ProjectedVertex;
 use crate::raster::visibility::EMPTY;
 use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
 use crate::scene::{CameraDesc, Scene};
-use crate::shade::{Ibl, MappingNeeds, ShadeContext, ShadedSample, SurfaceSamples8};
+use crate::shade::{AlphaMode, Ibl, MappingNeeds, ShadeContext, ShadedSample, SurfaceSamples8};
 use crate::texture::{Filter, Footprint8};
 use crate::{Error, Result};
 use glam::{Affine3A, Quat, Vec2, Vec3};
@@ -56,6 +58,8 @@ pub struct RenderOptions {
     /// Nothing behind the objects: the background (colour or environment) is black with alpha 0, the
     /// frame keeps its coverage as alpha and its colour is premultiplied by it.
     pub transparent: bool,
+    /// How translucent (`alpha_mode = "blend"`) fragments are put in order.
+    pub transparency: Transparency,
 }
 
 impl Default for RenderOptions {
@@ -69,6 +73,7 @@ impl Default for RenderOptions {
             turntable_degrees: 0.0,
             aovs: Aovs::default(),
             transparent: false,
+            transparency: Transparency::default(),
         }
     }
 }
@@ -156,7 +161,16 @@ fn render_view(
         4 => 32,
         _ => 16,
     };
-    let bins = Bins::new(&drawn.triangles, w, h, tile_size);
+    // Translucent surfaces stay out of the opaque visibility: the transparent pass composites them over it.
+    let blending: Vec<bool> =
+        instances.iter().map(|i| scene.materials[i.material].alpha_mode == AlphaMode::Blend).collect();
+    let bins = Bins::of(&drawn.triangles, w, h, tile_size, |t| !blending[t.surface as usize]);
+    let blend_bins =
+        blending.contains(&true).then(|| Bins::of(&drawn.triangles, w, h, tile_size, |t| blending[t.surface as usize]));
+    let blend_order = match (&blend_bins, options.transparency) {
+        (Some(_), Transparency::Sorted) => transparent::sorted_order(&camera, &instances, &drawn, &blending),
+        _ => Vec::new(),
+    };
     stats.bin_ms = ms(t);
 
     let mut shade_ctx = ShadeContext {
@@ -179,7 +193,8 @@ fn render_view(
     };
     let cutoffs: Vec<Option<f32>> = instances.iter().map(|i| scene.materials[i.material].alpha_cutoff()).collect();
     let t = Instant::now();
-    let shadows = shadows::shadows(scene, &instances, &drawn, &placed_for, &shade_ctx, &cutoffs, w.max(h))?;
+    let casting: Vec<bool> = blending.iter().map(|b| !b).collect();
+    let shadows = shadows::shadows(scene, &instances, &drawn, &placed_for, &shade_ctx, &cutoffs, &casting, w.max(h))?;
     shade_ctx.shadows = shadows.as_ref();
     stats.shadow_ms = ms(t);
 
@@ -197,6 +212,9 @@ fn render_view(
         volumes: &scene.volumes,
         sky: scene.environment.as_ref().filter(|e| e.background && !options.transparent).map(|e| &e.map),
         lights: &scene.lights,
+        blend_bins: blend_bins.as_ref(),
+        transparency: options.transparency,
+        blend_order: &blend_order,
         ..TileJob::visibility(&drawn, &bins, &camera, &pattern, &instances, &shade_ctx, &cutoffs, &replacing)
     };
     let (bands_done, bands) = (AtomicUsize::new(0), bins.tiles_y);
@@ -432,6 +450,7 @@ fn cull(inst: &Instance) -> Cull {
 }
 
 /// Everything one tile needs, shared by all tiles of a frame.
+#[derive(Clone, Copy)]
 struct TileJob<'a> {
     bins: &'a Bins,
     camera: &'a Camera,
@@ -461,6 +480,11 @@ struct TileJob<'a> {
     /// Whether samples that the outline test finds on the exact surface take its depth (a shadow map's
     /// texels) or keep their triangle's, widened past the chord (a frame's, whose shading finds the depth).
     exact_depth: bool,
+    /// The translucent triangles' bins, where there are any (`bins` holds the opaque ones).
+    blend_bins: Option<&'a Bins>,
+    transparency: Transparency,
+    /// Per triangle, its place in sorted drawing (translucent ones; `Transparency::Sorted`).
+    blend_order: &'a [u32],
 }
 
 impl<'a> TileJob<'a> {
@@ -497,6 +521,9 @@ impl<'a> TileJob<'a> {
             replacing,
             any_replacing: replacing.contains(&true),
             exact_depth: false,
+            blend_bins: None,
+            transparency: Transparency::default(),
+            blend_order: &[],
         }
     }
 
@@ -564,7 +591,9 @@ impl<'a> TileJob<'a> {
         w: usize,
         h: usize,
     ) {
-        if self.bins.bins[tile.1 * self.bins.tiles_x + tile.0].is_empty()
+        let index = tile.1 * self.bins.tiles_x + tile.0;
+        if self.bins.bins[index].is_empty()
+            && self.blend_bins.is_none_or(|b| b.bins[index].is_empty())
             && self.volumes.is_empty()
             && self.sky.is_none()
         {
@@ -575,7 +604,7 @@ impl<'a> TileJob<'a> {
         if self.any_masked || self.any_replacing || scratch.vis.outline {
             self.fix_visibility(scratch, tile);
         }
-        let TileScratch { vis, shaded, sky, .. } = scratch;
+        let TileScratch { vis, shaded, sky, translucent, fragments, .. } = scratch;
         if let Some(env) = self.sky {
             self.sky_samples(env, vis, sky);
         }
@@ -606,9 +635,14 @@ impl<'a> TileJob<'a> {
         if packet.len > 0 {
             self.shade_packet(vis, &mut packet, shaded);
         }
+        if self.blend_bins.is_some() {
+            let layers = translucent.get_or_insert_with(|| Box::new(TileScratch::new(self.bins.tile_size, spp)));
+            self.translucent_fragments(layers, tile, (w, h), vis, fragments);
+        }
         // Resolve: the box filter over each pixel's samples.
         let inv_spp = 1.0 / spp as f32;
         let mut acc = frame::AovSample::default();
+        let mut next_fragment = 0;
         for y in 0..vis.height {
             for x in 0..vis.width {
                 let mut sum = Vec3::ZERO;
@@ -616,16 +650,20 @@ impl<'a> TileJob<'a> {
                 for s in 0..spp {
                     let k = (y * vis.width + x) * spp + s;
                     let screen = vis.sample_position(x, y, s, self.pattern);
-                    if vis.triangle[k] == EMPTY {
+                    let covered = vis.triangle[k] != EMPTY;
+                    let seen = if covered {
+                        let sample = &shaded[k];
+                        if self.aovs.any() {
+                            acc.add(&sample.shaded, sample.uv, sample.object, sample.triangle);
+                        }
+                        self.volume_pass(screen, sample.shaded.depth, sample.shaded.color)
+                    } else {
                         let behind = if self.sky.is_some() { sky[k] } else { self.background };
-                        sum += self.volume_pass(screen, f32::INFINITY, behind);
-                        continue;
-                    }
-                    let sample = &shaded[k];
-                    sum += self.volume_pass(screen, sample.shaded.depth, sample.shaded.color);
-                    if self.aovs.any() {
-                        acc.add(&sample.shaded, sample.uv, sample.object, sample.triangle);
-                    }
+                        self.volume_pass(screen, f32::INFINITY, behind)
+                    };
+                    let (seen, next) = transparent::composite(fragments, next_fragment, k, seen, covered, &mut acc);
+                    next_fragment = next;
+                    sum += seen;
                 }
                 let i = (y * w) + vis.x0 + x;
                 band[i] = (sum * inv_spp).to_array();
@@ -926,6 +964,12 @@ struct TileScratch {
     missed: Vec<usize>,
     refused: Vec<usize>,
     replaced: Vec<Replaced>,
+    /// The transparent pass's own buffers (its layers of fragments), made on first use.
+    translucent: Option<Box<TileScratch>>,
+    /// The tile's translucent fragments, in compositing order.
+    fragments: Vec<transparent::Fragment>,
+    /// Per sample, the surface and distance of the transparent pass's last fragment there.
+    last: Vec<(u32, f32)>,
 }
 
 impl TileScratch {
@@ -938,6 +982,9 @@ impl TileScratch {
             missed: Vec::new(),
             refused: Vec::new(),
             replaced: Vec::new(),
+            translucent: None,
+            fragments: Vec::new(),
+            last: Vec::new(),
         }
     }
 }

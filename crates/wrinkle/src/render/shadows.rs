@@ -23,7 +23,8 @@ const TILE: usize = 64;
 /// Every light's shadow map, or `None` where no light casts a shadow or no object can shadow anything
 /// (one object that cannot shadow itself). `instances` and `drawn`: the frame's; `placed_for`: the
 /// instances as a camera sees them (in the same order); `frame_side`: the frame's larger side, which sizes
-/// the maps that do not set their size.
+/// the maps that do not set their size; `casting`: per instance, whether it casts shadows (translucent
+/// surfaces do not).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn shadows(
     scene: &Scene,
@@ -32,6 +33,7 @@ pub(super) fn shadows(
     placed_for: &dyn Fn(&Camera) -> Vec<Instance>,
     shade: &ShadeContext,
     cutoffs: &[Option<f32>],
+    casting: &[bool],
     frame_side: usize,
 ) -> Result<Option<Shadows>> {
     let mut self_shadowless: Vec<bool> = scene.objects.iter().map(|o| o.shape.cannot_shadow_itself()).collect();
@@ -40,11 +42,11 @@ pub(super) fn shadows(
     }
     let mut objects: Vec<u32> = instances.iter().map(|i| i.object).collect();
     objects.dedup();
-    let casting = |(light, settings): (&Light, &ShadowSettings)| {
+    let shadowing = |(light, settings): (&Light, &ShadowSettings)| {
         settings.enabled && matches!(light, Light::Directional { .. } | Light::Point { .. } | Light::Spot(_))
     };
     let alone = objects.len() <= 1 && objects.iter().all(|&o| self_shadowless[o as usize]);
-    if alone || !scene.lights.iter().zip(&scene.shadows).any(casting) {
+    if alone || !scene.lights.iter().zip(&scene.shadows).any(shadowing) {
         return Ok(None);
     }
     let bounds = world_bounds(instances, drawn);
@@ -52,7 +54,7 @@ pub(super) fn shadows(
     let auto = (frame_side / 2).next_power_of_two().clamp(256, 4096);
     let mut maps = Vec::with_capacity(scene.lights.len());
     for (light, settings) in scene.lights.iter().zip(&scene.shadows) {
-        if !casting((light, settings)) {
+        if !shadowing((light, settings)) {
             maps.push(None);
             continue;
         }
@@ -68,8 +70,10 @@ pub(super) fn shadows(
             }
             Light::Ambient { .. } | Light::Environment { .. } => unreachable!("only casting lights have maps"),
         };
-        let views =
-            cameras.into_iter().map(|c| depth_view(c, scene, placed_for, shade, cutoffs)).collect::<Result<_>>()?;
+        let views = cameras
+            .into_iter()
+            .map(|c| depth_view(c, scene, placed_for, shade, cutoffs, casting))
+            .collect::<Result<_>>()?;
         maps.push(Some(ShadowMap { views, origin, bias: settings.bias }));
     }
     Ok(Some(Shadows { maps, self_shadowless }))
@@ -145,13 +149,14 @@ fn depth_view(
     placed_for: &dyn Fn(&Camera) -> Vec<Instance>,
     shade: &ShadeContext,
     cutoffs: &[Option<f32>],
+    casting: &[bool],
 ) -> Result<ShadowView> {
     let (w, h) = (camera.width as usize, camera.height as usize);
     crate::limits::reserve((w * h * 8) as u64, || format!("a {w}x{h} shadow map"))?;
     let mut seen = placed_for(&camera);
     let diced = displace::displace(&mut seen, &scene.materials, &camera)?;
     let drawn = Drawn::new(&seen, diced, &camera, &mut Default::default());
-    let bins = Bins::new(&drawn.triangles, w, h, TILE);
+    let bins = Bins::of(&drawn.triangles, w, h, TILE, |t| casting[t.surface as usize]);
     let pattern = SamplePattern::new(1).expect("one sample per texel");
     // A parallax crossing's depth is the eye's, not the light's: shadows see the surface itself.
     let not_replacing = vec![false; seen.len()];

@@ -6,11 +6,12 @@
 //! opacity alpha = 1 - K.
 
 use super::{frame, Drawn, TileJob, TileScratch};
-use crate::geometry::Instance;
-use crate::lanes::LANES;
+use crate::geometry::{Instance, Primitive};
+use crate::lanes::{CmpLt, F8, LANES, V3};
 use crate::raster::visibility::EMPTY;
 use crate::raster::{Camera, ScreenTriangle, VisBuffer};
-use glam::Vec3;
+use crate::shade::SurfaceSamples8;
+use glam::{Mat3, Vec3};
 
 /// The order in which the translucent fragments over a sample are composited.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -58,6 +59,8 @@ impl TileJob<'_> {
         let job = TileJob { bins, ..*self };
         layers.vis.render_tile(bins, tile, screen, self.triangles, self.pattern);
         let n = layers.vis.width * layers.vis.height * layers.vis.spp;
+        layers.last.clear();
+        layers.last.resize(n, (EMPTY, 0.0));
         for layer in 0..MAX_LAYERS {
             if layer > 0 {
                 let TileScratch { vis, refused, .. } = layers;
@@ -69,7 +72,7 @@ impl TileJob<'_> {
                 job.fix_visibility(layers, tile);
             }
             // What lies behind the opaque surface is hidden: it ends the sample's layers.
-            let TileScratch { vis, candidates, .. } = layers;
+            let TileScratch { vis, candidates, last, .. } = layers;
             candidates.clear();
             for k in 0..n {
                 if vis.triangle[k] != EMPTY {
@@ -83,34 +86,64 @@ impl TileJob<'_> {
             if candidates.is_empty() {
                 break;
             }
-            job.shade_layer(vis, candidates, out);
+            job.shade_layer(vis, candidates, last, out);
         }
         out.sort_unstable_by(|a, b| a.sample.cmp(&b.sample).then(a.order.total_cmp(&b.order)));
     }
 
-    /// Shades the fragments of one layer at the samples `candidates`: colour and alpha.
-    fn shade_layer(&self, vis: &mut VisBuffer, candidates: &[usize], out: &mut Vec<Fragment>) {
+    /// Shades the fragments of one layer at the samples `candidates`: colour and alpha. A curved surface's
+    /// triangles along its outline are widened, so a sample may meet the surface through two of them at
+    /// one point (`last`, per sample the surface and distance of its last fragment, keeps it once; spheres
+    /// and flat patches, which a ray meets once, once in all), or, near the outline, where its ray leaves
+    /// a closed surface (not seen: closed surfaces show their outside).
+    fn shade_layer(&self, vis: &mut VisBuffer, candidates: &[usize], last: &mut [(u32, f32)], out: &mut Vec<Fragment>) {
         self.packets_of(
             vis,
             candidates,
             &[],
             |_| true,
             |vis, packet| {
-                let (lit, alpha) =
-                    self.with_samples(vis, packet, |inst, at| (self.shade.shade8(inst, at), self.shade.alpha8(inst, at)));
+                let (lit, alpha, back) = self.with_samples(vis, packet, |inst, at| {
+                    (self.shade.shade8(inst, at), self.shade.alpha8(inst, at), turned_away(self.camera, inst, at))
+                });
                 let alpha = alpha.to_array();
                 let distance = lit.depth.to_array();
+                // A ray meets a sphere's outside or a flat patch once.
+                let once = matches!(&self.instances[packet.surface as usize].primitive,
+                    Primitive::Parametric(s) if s.cannot_shadow_itself());
                 for i in 0..packet.len.min(LANES) {
+                    let k = packet.samples[i];
+                    let (surface, before) = last[k];
+                    let again = surface == packet.surface && (once || (distance[i] - before).abs() <= 1e-3 * before);
+                    if again || back >> i & 1 == 1 {
+                        continue;
+                    }
+                    last[k] = (packet.surface, distance[i]);
                     let order = match self.transparency {
                         Transparency::Exact => -distance[i],
                         Transparency::Sorted => self.blend_order[packet.triangles[i] as usize] as f32,
                     };
                     let color = lit.color.lane(i);
-                    out.push(Fragment { sample: packet.samples[i], order, color, alpha: alpha[i].clamp(0.0, 1.0) });
+                    out.push(Fragment { sample: k, order, color, alpha: alpha[i].clamp(0.0, 1.0) });
                 }
             },
         );
     }
+}
+
+/// The lanes (bits) of a closed parametric surface whose point faces away from the eye (`camera`'s).
+fn turned_away(camera: &Camera, inst: &Instance, at: &SurfaceSamples8) -> u8 {
+    if inst.two_sided || at.mesh.is_some() {
+        return 0;
+    }
+    // Normals go to camera space by the inverse transpose of object_to_camera's linear part.
+    let n = V3::mul_mat3(&Mat3::from(inst.camera_to_object.matrix3).transpose(), at.frame.pu.cross(at.frame.pv));
+    let p = V3::transform_point(&inst.object_to_camera, at.frame.p);
+    let towards = match camera.is_perspective() {
+        true => -p,
+        false => V3::splat(Vec3::Z),
+    };
+    n.dot(towards).cmp_lt(F8::ZERO).move_mask() as u8
 }
 
 /// Each translucent triangle's place in sorted drawing (0: the farthest, drawn first): objects back to

@@ -19,7 +19,7 @@ use crate::mapping::polygon::QuadMapping;
 use crate::mapping::{Projection as MapProjection, UvTransform};
 use crate::procedural::solid::Space;
 use crate::raster::Projection;
-use crate::shade::{AlphaMode, Layer, Material, Phong, Target};
+use crate::shade::{Layer, Material, Phong, Target};
 use crate::texture::reconstruct::Kernel;
 use crate::texture::{Filter, FilterOptions, FilteredTexture, TextureOptions, Wrap};
 use crate::{Error, Result};
@@ -392,12 +392,6 @@ fn parse_mesh(f: &Fields, base: &Path, materials: &mut Vec<Material>) -> Result<
             Some(m) => parse_material(&f.at("material"), m, base, part.material)?,
             None => part.material,
         };
-        if material.alpha_mode == AlphaMode::Blend {
-            return Err(Error::read(
-                &file,
-                format!("a material has alphaMode BLEND: {BLEND_NOT_BUILT} (set {}.alpha_mode)", f.at("material")),
-            ));
-        }
         let mut mesh = part.mesh;
         if material.reads_second_uv() && mesh.uvs(1).is_none() {
             return Err(Error::read(&file, "has no texture coordinate set 1 (TEXCOORD_1), which its material reads"));
@@ -528,15 +522,8 @@ fn parse_material(path: &str, v: &Value, base: &Path, under: Material) -> Result
         material.chrome = Some(parse_chrome(&f.at("chrome"), c, base)?);
     }
     material.alpha_mode = parse_alpha_mode(&f, material.alpha_mode)?;
-    if material.alpha_mode == AlphaMode::Blend && f.get("alpha_mode").is_some() {
-        return Err(Error::scene(f.at("alpha_mode"), BLEND_NOT_BUILT));
-    }
     Ok(material)
 }
-
-/// Why `alpha_mode = "blend"` is refused, and what to use instead.
-const BLEND_NOT_BUILT: &str =
-    "\"blend\" (sorted transparency) is not built yet: use \"mask\" (the alpha test, with alpha_cutoff) or \"opaque\"";
 
 /// The file a scene's file field (at `field`) names, resolved against the scene file's folder `base`. An
 /// empty name (which would name the folder) and one longer than any path the system takes are errors.
