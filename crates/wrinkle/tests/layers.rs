@@ -312,8 +312,8 @@ fn bad_layers_name_their_field() {
             "objects[0].material.layer[0].blend_color: applies to mode = \"blend\" only",
         ),
         (
-            "alpha_mode = \"blend\"".into(),
-            "objects[0].material.alpha_mode: \"blend\" (sorted transparency) is not built yet",
+            "alpha_mode = \"glass\"".into(),
+            "objects[0].material.alpha_mode: expected one of \"opaque\", \"mask\", \"blend\"",
         ),
         ("alpha_cutoff = 0.3".into(), "objects[0].material.alpha_cutoff: applies to alpha_mode = \"mask\" only"),
         (

@@ -455,7 +455,7 @@ fn gltf_second_texture_coordinate_set_lays_textures_normal_maps_and_bumps() {
 
 /// Alpha from model files: a glTF base colour texture's alpha under alphaMode MASK with its alphaCutoff,
 /// and an OBJ's map_d (a grey mask), cut the quad where the specifications say; OPAQUE ignores alpha; BLEND
-/// is refused with its fix, and the scene's `alpha_mode` overrides the file's.
+/// composites by it, and the scene's `alpha_mode` overrides the file's.
 #[test]
 fn model_files_cut_by_their_alpha() {
     let dir = scratch_dir("model-alpha");
@@ -497,15 +497,13 @@ fn model_files_cut_by_their_alpha() {
     let file = File { primitive: quad(None, false), matrix: None, material: material.into(), png: Some(png.clone()) };
     std::fs::write(dir.join("faded.glb"), file.write(Layout::Binary, "").0).unwrap();
     assert_eq!(cut(&scene("faded.glb", "")), [true, true]);
-    // BLEND: refused, naming the file and the fix; the scene's alpha_mode overrides it.
+    // BLEND: composited by its alpha (the transparent pass): alpha 0 shows the background exactly, alpha 1 the
+    // texture; the scene's alpha_mode overrides it.
     let material = "{\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 0}}, \"alphaMode\": \"BLEND\"}";
     let file = File { primitive: quad(None, false), matrix: None, material: material.into(), png: Some(png) };
     std::fs::write(dir.join("blend.glb"), file.write(Layout::Binary, "").0).unwrap();
-    let err = Scene::parse(&scene("blend.glb", ""), &dir).err().expect("BLEND refused").to_string();
-    assert!(
-        err.contains("blend.glb") && err.contains("alphaMode BLEND") && err.contains("objects[0].material.alpha_mode"),
-        "{err}"
-    );
+    assert_eq!(cut(&scene("blend.glb", "")), [true, false]);
+    assert_eq!(cut(&scene("blend.glb", "[object.material]\nalpha_mode = \"opaque\"\n")), [false, false]);
     assert_eq!(cut(&scene("blend.glb", "[object.material]\nalpha_mode = \"mask\"\n")), [true, false]);
 
     // OBJ: map_d is a grey mask (black left, white right) under the alpha test.

@@ -127,8 +127,12 @@ impl ObjMaterial {
             opacity: self.opacity,
             emission: self.emission,
             layers: self.layers.clone(),
-            // A dissolve map cuts leaves and fences out (the alpha test); sorted transparency is not built.
-            alpha_mode: if cutout { AlphaMode::Mask { cutoff: 0.5 } } else { AlphaMode::Opaque },
+            // A dissolve map cuts leaves and fences out (the alpha test); a dissolve below 1 alone is glass.
+            alpha_mode: match (cutout, self.opacity < 1.0) {
+                (true, _) => AlphaMode::Mask { cutoff: 0.5 },
+                (false, true) => AlphaMode::Blend,
+                (false, false) => AlphaMode::Opaque,
+            },
             phong: Phong::new(self.specular, self.shininess),
             bump: self.bump.as_ref().map(|(table, scale, transform)| BumpMap {
                 source: BumpSource::Table(table.clone()),
