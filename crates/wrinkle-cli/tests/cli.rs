@@ -803,3 +803,48 @@ fn transparent_background_writes_alpha() {
     let k = a.iter().position(|&x| x > 0.2 && x < 0.8).expect("an edge pixel");
     assert!((r[k] - 0.8 * a[k]).abs() < 1e-5, "premultiplied: R {} at A {}", r[k], a[k]);
 }
+
+/// `--transparency`: two translucent squares crossing at x = 0, seen head on over black. `exact` puts each
+/// pixel's nearer square in front on both sides of the crossing; `sorted` (the default) one square in front
+/// everywhere, so the two differ on one side only; a bad value is one error naming the choices.
+#[test]
+fn transparency_orders_crossing_panes() {
+    let s = Scratch::new("transparency");
+    let square = |corners: &str, colour: &str, opacity: f32| {
+        format!(
+            "[[object]]\nshape = \"patch\"\ncorners = {corners}\n[object.material]\ncolor = [0.0, 0.0, 0.0]\n\
+             specular = 0.0\nemission = {colour}\nalpha_mode = \"blend\"\nopacity = {opacity}\n\n"
+        )
+    };
+    let scene = s.write_input(
+        "scene.toml",
+        &format!(
+            "[camera]\neye = [0.0, 0.0, 5.0]\nlook_at = [0.0, 0.0, 0.0]\nprojection = \"orthographic\"\nheight = 4.0\n\
+             background = [0.0, 0.0, 0.0]\n\n{}{}",
+            square("[[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]]", "[1.0, 0.0, 0.0]", 0.3),
+            square(
+                "[[-1.0, -1.0, -0.5], [1.0, -1.0, 0.5], [1.0, 1.0, 0.5], [-1.0, 1.0, -0.5]]",
+                "[0.0, 1.0, 0.0]",
+                0.6
+            ),
+        ),
+    );
+    let render = |mode: &str| {
+        let out = s.out(&format!("{mode}.png"));
+        assert_ok(&wrinkle(&["render", &scene, "-o", &out, "--width", "32", "--height", "32", "--transparency", mode]));
+        let rgb = image::open(&out).unwrap().to_rgb8();
+        (rgb.get_pixel(12, 16).0, rgb.get_pixel(20, 16).0)
+    };
+    // sRGB bytes of linear (R, G): left red 0.3 over green 0.6 x 0.7, right green 0.6 over red 0.3 x 0.4.
+    let byte =
+        |v: f32| (255.0 * if v <= 0.0031308 { 12.92 * v } else { 1.055 * v.powf(1.0 / 2.4) - 0.055 }).round() as i32;
+    let near =
+        |p: [u8; 3], r: f32, g: f32| (i32::from(p[0]) - byte(r)).abs() <= 1 && (i32::from(p[1]) - byte(g)).abs() <= 1;
+    let (left, right) = render("exact");
+    assert!(near(left, 0.3, 0.42) && near(right, 0.12, 0.6), "exact: {left:?} {right:?}");
+    let (left, right) = render("sorted");
+    assert!(near(left, 0.3, 0.42) != near(right, 0.12, 0.6), "sorted: {left:?} {right:?}");
+    let bad = Scratch::new("transparency_bad");
+    let run = wrinkle(&["render", &scene, "-o", &bad.out("x.png"), "--transparency", "painter"]);
+    assert_one_error(&run, 2, &["--transparency", "sorted", "exact"], &bad);
+}

@@ -213,7 +213,7 @@ fn syntax_errors_in_huge_files_are_one_short_line() {
     std::fs::remove_file(&file).unwrap();
 }
 
-/// Billboards and environments: what does not apply, or cannot be, is named.
+/// Billboards, environments and shadows: what does not apply, or cannot be, is named.
 #[test]
 fn billboard_and_environment_mistakes_are_named() {
     for (body, want) in [
@@ -229,6 +229,12 @@ fn billboard_and_environment_mistakes_are_named() {
         ("[environment]\nlayout = \"latlong\"", "environment.map: missing"),
         ("[environment]\nmap = \"maps/sky.hdr\"\nintensity = -1.0", "environment.intensity"),
         ("[[object]]\nshape = \"sphere\"\nmaterial = { chrome = { blur = 0.5 } }", "objects[0].material.chrome.blur"),
+        ("[[light]]\ntype = \"ambient\"\nshadow = false", "lights[1].shadow: not a field of lights of type \"ambient\""),
+        ("[[light]]\ntype = \"point\"\nposition = [0.0, 2.0, 0.0]\nshadow = \"yes\"", "lights[1].shadow: expected true or false, got"),
+        ("[[light]]\ntype = \"point\"\nposition = [0.0, 2.0, 0.0]\nshadow_size = 8", "lights[1].shadow_size: expected an integer from 16 to 8192, got 8"),
+        ("[[light]]\ntype = \"point\"\nposition = [0.0, 2.0, 0.0]\nshadow_size = 1e9", "lights[1].shadow_size: expected an integer from 16 to 8192"),
+        ("[[light]]\ntype = \"point\"\nposition = [0.0, 2.0, 0.0]\nshadow_bias = -1.0", "lights[1].shadow_bias: expected a bias scale from 0 to 100"),
+        ("[[light]]\ntype = \"point\"\nposition = [0.0, 2.0, 0.0]\nshadow_bias = nan", "lights[1].shadow_bias: expected a finite number, got NaN"),
     ] {
         let got = error_of(body);
         assert!(got.starts_with(want), "{body}: {got}");

@@ -222,7 +222,6 @@ impl ShadowView {
         // Far outside the map (or not a number): clamped, then masked as lit.
         let limit = F8::splat(1e6);
         let (x0, y0) = (x0.max(-limit).min(limit).round_int(), y0.max(-limit).min(limit).round_int());
-        let own = I8::splat(own.map_or(-1, |o| o as i32));
         let inside = |x: I8, y: I8| {
             x.cmp_gt(I8::splat(-1)) & x.cmp_lt(I8::splat(w)) & y.cmp_gt(I8::splat(-1)) & y.cmp_lt(I8::splat(h))
         };
@@ -232,12 +231,17 @@ impl ShadowView {
                 let (x, y) = (x0 + I8::splat(dx), y0 + I8::splat(dy));
                 let index = y * I8::splat(w) + x;
                 let depth = gather(&self.depth, index);
-                // SAFETY: `gather` clamps its indices into `depth`, which is as long as `object`; the same
-                // clamp is applied here.
-                let object = unsafe { gather_words(&self.object, index.max(I8::splat(0)).min(I8::splat(w * h - 1))) };
+                let mut counted = inside(x, y);
+                if let Some(own) = own {
+                    // SAFETY: `gather` clamps its indices into `depth`, which is as long as `object`; the same
+                    // clamp is applied here.
+                    let object =
+                        unsafe { gather_words(&self.object, index.max(I8::splat(0)).min(I8::splat(w * h - 1))) };
+                    counted = counted & !object.cmp_eq(I8::splat(own as i32));
+                }
                 let offset =
                     (x.round_float() + F8::splat(0.5) - sx) * gx + (y.round_float() + F8::splat(0.5) - sy) * gy;
-                let occluded = depth.cmp_lt(compared + offset) & bits(inside(x, y) & !object.cmp_eq(own));
+                let occluded = depth.cmp_lt(compared + offset) & bits(counted);
                 shadowed += occluded.blend(wx * wy, F8::ZERO);
             }
         }
