@@ -818,7 +818,7 @@ fn transparency_orders_crossing_panes() {
     };
     let scene = s.write_input(
         "scene.toml",
-        &format!(
+        format!(
             "[camera]\neye = [0.0, 0.0, 5.0]\nlook_at = [0.0, 0.0, 0.0]\nprojection = \"orthographic\"\nheight = 4.0\n\
              background = [0.0, 0.0, 0.0]\n\n{}{}",
             square("[[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]]", "[1.0, 0.0, 0.0]", 0.3),

@@ -237,7 +237,7 @@ impl ShadowView {
                     // clamp is applied here.
                     let object =
                         unsafe { gather_words(&self.object, index.max(I8::splat(0)).min(I8::splat(w * h - 1))) };
-                    counted = counted & !object.cmp_eq(I8::splat(own as i32));
+                    counted &= !object.cmp_eq(I8::splat(own as i32));
                 }
                 let offset =
                     (x.round_float() + F8::splat(0.5) - sx) * gx + (y.round_float() + F8::splat(0.5) - sy) * gy;
@@ -254,7 +254,8 @@ impl ShadowView {
     /// it by its share of the box. `z`: the receiver's own depth (lit where it is behind the light).
     fn percentage_closer(&self, s: Vec2, r: (f32, f32), g: (f32, f32), compared: f32, z: f32, own: Option<u32>) -> f32 {
         let ((rx, ry), (gx, gy)) = (r, g);
-        if !(z > crate::raster::camera::NEAR) || !(s.is_finite() && rx.is_finite() && ry.is_finite()) {
+        let in_front = z > crate::raster::camera::NEAR;
+        if !in_front || !s.is_finite() || !rx.is_finite() || !ry.is_finite() {
             return 1.0;
         }
         let (w, h) = (self.camera.width as i64, self.camera.height as i64);
