@@ -8,7 +8,7 @@ mod transparent;
 mod views;
 
 pub use frame::{Aovs, Frame, Stats, NO_PRIMITIVE};
-pub use transparent::{Transparency, MAX_LAYERS};
+pub use transparent::Transparency;
 
 use crate::envmap::Environment;
 use crate::geometry::billboard::Viewer;
