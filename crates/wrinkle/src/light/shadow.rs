@@ -43,10 +43,34 @@ pub struct ShadowView {
     pub depth: Vec<f32>,
     /// That surface's object (`EMPTY` where none), as little-endian words for the gathers.
     pub object: Vec<[u8; 4]>,
-    /// Per block of BLOCK x BLOCK texels: the least depth, and the one object seen there (`EMPTY` for none,
-    /// `MIXED` for several).
-    blocks: Vec<(f32, u32)>,
+    /// Per block of BLOCK x BLOCK texels, what bounds its depths from below.
+    blocks: Vec<Block>,
     blocks_x: usize,
+}
+
+/// What a block of texels holds, summed up: the least depth, a plane no texel lies in front of (where every
+/// texel sees a surface), and the one object seen there (`EMPTY` for none, `MIXED` for several).
+#[derive(Clone, Copy)]
+struct Block {
+    least: f32,
+    /// The plane's depth at the block's first texel and its change per texel right and down.
+    plane: Option<(f32, f32, f32)>,
+    object: u32,
+}
+
+/// A receiver's plane over the map: depth `compared` at screen position `s`, changing by `g` per texel.
+#[derive(Clone, Copy)]
+struct ReceiverPlane {
+    s: Vec2,
+    g: Vec2,
+    compared: f32,
+}
+
+impl ReceiverPlane {
+    /// Its depth at the centre of texel (x, y).
+    fn at(&self, x: usize, y: usize) -> f32 {
+        self.compared + self.g.x * (x as f32 + 0.5 - self.s.x) + self.g.y * (y as f32 + 0.5 - self.s.y)
+    }
 }
 
 impl ShadowView {
@@ -54,31 +78,64 @@ impl ShadowView {
     pub fn new(camera: Camera, depth: Vec<f32>, object: Vec<[u8; 4]>) -> ShadowView {
         let (w, h) = (camera.width as usize, camera.height as usize);
         let (blocks_x, blocks_y) = (w.div_ceil(BLOCK), h.div_ceil(BLOCK));
-        let mut blocks = vec![(f32::INFINITY, EMPTY); blocks_x * blocks_y];
+        let mut blocks = vec![Block { least: f32::INFINITY, plane: None, object: EMPTY }; blocks_x * blocks_y];
         blocks.par_chunks_mut(blocks_x).enumerate().for_each(|(by, row)| {
-            for y in by * BLOCK..((by + 1) * BLOCK).min(h) {
-                for x in 0..w {
-                    let (d, o) = (depth[y * w + x], u32::from_le_bytes(object[y * w + x]));
-                    let block = &mut row[x / BLOCK];
-                    block.0 = block.0.min(d);
-                    block.1 = match block.1 {
+            let (y0, y1) = (by * BLOCK, ((by + 1) * BLOCK).min(h) - 1);
+            for (bx, block) in row.iter_mut().enumerate() {
+                let (x0, x1) = (bx * BLOCK, ((bx + 1) * BLOCK).min(w) - 1);
+                let texels = || (y0..=y1).flat_map(move |y| (x0..=x1).map(move |x| (x, y, y * w + x)));
+                for (_, _, k) in texels() {
+                    let o = u32::from_le_bytes(object[k]);
+                    block.least = block.least.min(depth[k]);
+                    block.object = match block.object {
                         EMPTY => o,
                         b if b == o || o == EMPTY => b,
                         _ => MIXED,
                     };
                 }
+                // The plane through the corners' slopes, lowered under every texel.
+                let d = |x: usize, y: usize| depth[y * w + x];
+                if x1 == x0 || y1 == y0 || texels().any(|(_, _, k)| !depth[k].is_finite()) {
+                    continue;
+                }
+                let gx = (d(x1, y0) - d(x0, y0) + d(x1, y1) - d(x0, y1)) / (2 * (x1 - x0)) as f32;
+                let gy = (d(x0, y1) - d(x0, y0) + d(x1, y1) - d(x1, y0)) / (2 * (y1 - y0)) as f32;
+                let above = |x: usize, y: usize| d(x0, y0) + gx * (x - x0) as f32 + gy * (y - y0) as f32 - d(x, y);
+                let lowered = texels().map(|(x, y, _)| above(x, y)).fold(0.0, f32::max);
+                block.plane = Some((d(x0, y0) - lowered, gx, gy));
             }
         });
         ShadowView { camera, depth, object, blocks, blocks_x }
     }
 
-    /// Whether nothing in the texels x0..=x1, y0..=y1 (within the view) can be nearer than `nearest`, or
-    /// what is there is all `own`.
-    fn clear(&self, (x0, x1): (usize, usize), (y0, y1): (usize, usize), nearest: f32, own: Option<u32>) -> bool {
+    /// Whether no texel in x0..=x1, y0..=y1 (within the view) is nearer than any of the receivers' planes
+    /// there, or is of `own`: read from the block summaries, block by block, by the least depth against the
+    /// planes' farthest, or by the block's plane against theirs (both linear: compared at the corners).
+    fn clear(
+        &self,
+        (x0, x1): (usize, usize),
+        (y0, y1): (usize, usize),
+        planes: &[ReceiverPlane],
+        own: Option<u32>,
+    ) -> bool {
         (y0 / BLOCK..=y1 / BLOCK).all(|by| {
             (x0 / BLOCK..=x1 / BLOCK).all(|bx| {
-                let (least, object) = self.blocks[by * self.blocks_x + bx];
-                least >= nearest || object == EMPTY || Some(object) == own
+                let b = &self.blocks[by * self.blocks_x + bx];
+                if b.object == EMPTY || Some(b.object) == own {
+                    return true;
+                }
+                let (ax, ay) = (bx * BLOCK, by * BLOCK);
+                let (cx, cy) = ([x0.max(ax), x1.min(ax + BLOCK - 1)], [y0.max(ay), y1.min(ay + BLOCK - 1)]);
+                let corners = [(cx[0], cy[0]), (cx[1], cy[0]), (cx[0], cy[1]), (cx[1], cy[1])];
+                planes.iter().all(|r| {
+                    let farthest = corners.iter().map(|&(x, y)| r.at(x, y)).fold(f32::NEG_INFINITY, f32::max);
+                    b.least >= farthest
+                        || b.plane.is_some_and(|(base, gx, gy)| {
+                            corners
+                                .iter()
+                                .all(|&(x, y)| base + gx * (x - ax) as f32 + gy * (y - ay) as f32 >= r.at(x, y))
+                        })
+                })
             })
         })
     }
@@ -161,8 +218,7 @@ impl ShadowMap {
         let (gx, gy) = (nc.x * inv * texel, -nc.y * inv * texel);
         let tan = (F8::ONE - cos * cos).max(F8::ZERO).sqrt() * inv;
         let compared = z - texel * F8::splat(self.bias) * (half + half * tan);
-        let nearest = compared - gx.abs() * (rx + F8::ONE) - gy.abs() * (ry + F8::ONE);
-        if view.clear8((sx, sy), (rx, ry), nearest, own) {
+        if view.clear8((sx, sy), (rx, ry), (gx, gy), compared, own) {
             return F8::ONE;
         }
         let seen = view.bilinear8((sx, sy), (gx, gy), compared, z, own);
@@ -194,22 +250,38 @@ fn cube_face(d: Vec3) -> usize {
 }
 
 impl ShadowView {
-    /// Whether no texel of any of eight boxes (half-widths `r` about `s`) can shadow its receiver, the
-    /// receivers' planes being nowhere nearer than `nearest`: read from the block summaries of the texels
-    /// about all eight, where they are close together (a packet of neighbouring samples).
-    fn clear8(&self, (sx, sy): (F8, F8), (rx, ry): (F8, F8), nearest: F8, own: Option<u32>) -> bool {
+    /// Whether no texel of any of eight boxes (half-widths `r` about `s`) can shadow its receiver (planes
+    /// `compared` at `s` changing by `g` per texel): from the block summaries, over the box about all eight
+    /// where they are close together (a packet of neighbouring samples).
+    fn clear8(
+        &self,
+        (sx, sy): (F8, F8),
+        (rx, ry): (F8, F8),
+        (gx, gy): (F8, F8),
+        compared: F8,
+        own: Option<u32>,
+    ) -> bool {
         let least = |v: F8| v.to_array().into_iter().fold(f32::INFINITY, f32::min);
         let most = |v: F8| v.to_array().into_iter().fold(f32::NEG_INFINITY, f32::max);
         let (x0, x1, y0, y1) = (least(sx - rx), most(sx + rx), least(sy - ry), most(sy + ry));
-        let nearest = least(nearest);
         let span = (BLOCK * 4) as f32;
-        if !(x1 - x0 <= span && y1 - y0 <= span && nearest.is_finite()) {
+        let finite = [gx, gy, compared].iter().all(|v| least(*v).is_finite() && most(*v).is_finite());
+        if !(x1 - x0 <= span && y1 - y0 <= span && finite) {
             return false;
         }
         let (w, h) = (self.camera.width as f32, self.camera.height as f32);
         let (x0, x1) = (x0.floor().max(0.0), x1.floor().min(w - 1.0));
         let (y0, y1) = (y0.floor().max(0.0), y1.floor().min(h - 1.0));
-        x0 > x1 || y0 > y1 || self.clear((x0 as usize, x1 as usize), (y0 as usize, y1 as usize), nearest, own)
+        if x0 > x1 || y0 > y1 {
+            return true;
+        }
+        let [sx, sy, gx, gy, compared] = [sx, sy, gx, gy, compared].map(|v| v.to_array());
+        let planes: [ReceiverPlane; LANES] = std::array::from_fn(|i| ReceiverPlane {
+            s: Vec2::new(sx[i], sy[i]),
+            g: Vec2::new(gx[i], gy[i]),
+            compared: compared[i],
+        });
+        self.clear((x0 as usize, x1 as usize), (y0 as usize, y1 as usize), &planes, own)
     }
 
     /// `percentage_closer` with a box of one texel (the four texels about each sample, weighted
@@ -264,22 +336,20 @@ impl ShadowView {
         if x0 > x1 || y0 > y1 {
             return 1.0;
         }
-        // The receiver's plane is nowhere in the box nearer than this.
-        let nearest = compared - gx.abs() * (rx + 1.0) - gy.abs() * (ry + 1.0);
-        if self.clear((x0 as usize, x1 as usize), (y0 as usize, y1 as usize), nearest, own) {
+        let plane = ReceiverPlane { s, g: Vec2::new(gx, gy), compared };
+        if self.clear((x0 as usize, x1 as usize), (y0 as usize, y1 as usize), &[plane], own) {
             return 1.0;
         }
         let overlap = |lo: f32, hi: f32, t: i64| (hi.min(t as f32 + 1.0) - lo.max(t as f32)).max(0.0);
         let mut shadowed = 0.0;
         for ty in y0..=y1 {
             let wy = overlap(s.y - ry, s.y + ry, ty);
-            let dy = ty as f32 + 0.5 - s.y;
             let row = (ty * w) as usize;
             for tx in x0..=x1 {
                 let k = row + tx as usize;
-                let plane = compared + gx * (tx as f32 + 0.5 - s.x) + gy * dy;
                 // Empty texels are infinitely far: they never pass the depth test.
-                if self.depth[k] < plane && Some(u32::from_le_bytes(self.object[k])) != own {
+                if self.depth[k] < plane.at(tx as usize, ty as usize) && Some(u32::from_le_bytes(self.object[k])) != own
+                {
                     shadowed += wy * overlap(s.x - rx, s.x + rx, tx);
                 }
             }
