@@ -74,11 +74,7 @@ impl Layout {
                 (ChartPoints8 { image: [0; LANES], s: s.min(one), t }, [ds, dt])
             }
             Layout::Cube => {
-                let a = V3 { x: d.x.abs(), y: d.y.abs(), z: d.z.abs() };
-                let (along_x, along_y) = (a.x.cmp_ge(a.y) & a.x.cmp_ge(a.z), a.y.cmp_ge(a.z));
-                let axis = along_x.blend(F8::ZERO, along_y.blend(F8::ONE, F8::splat(2.0)));
-                let component = along_x.blend(d.x, along_y.blend(d.y, d.z));
-                let face = axis + axis + component.cmp_lt(F8::ZERO).blend(F8::ONE, F8::ZERO);
+                let face = Face::of8(d);
                 let (mut ma, mut sc, mut up) = (V3::ZERO, V3::ZERO, V3::ZERO);
                 for f in Face::ALL {
                     let this = face.cmp_eq(F8::splat(f as usize as f32));
@@ -181,6 +177,17 @@ pub enum Face {
 
 impl Face {
     pub const ALL: [Face; 6] = [Face::PosX, Face::NegX, Face::PosY, Face::NegY, Face::PosZ, Face::NegZ];
+
+    /// The face each of eight directions points into, as its index in `ALL`: the largest component picks
+    /// the axis (ties go to x, then y), its sign the side.
+    #[inline]
+    pub fn of8(d: &V3) -> F8 {
+        let a = V3 { x: d.x.abs(), y: d.y.abs(), z: d.z.abs() };
+        let (along_x, along_y) = (a.x.cmp_ge(a.y) & a.x.cmp_ge(a.z), a.y.cmp_ge(a.z));
+        let axis = along_x.blend(F8::ZERO, along_y.blend(F8::ONE, F8::splat(2.0)));
+        let component = along_x.blend(d.x, along_y.blend(d.y, d.z));
+        axis + axis + component.cmp_lt(F8::ZERO).blend(F8::ONE, F8::ZERO)
+    }
 
     /// The face's outward axis, and the directions its s and t grow along (t up the picture: OpenGL's tc
     /// runs down it).

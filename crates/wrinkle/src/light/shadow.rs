@@ -2,6 +2,7 @@
 //! per texel, and the percentage-closer lookup that tells how much of a light reaches a point. The maps are
 //! rendered by the rasterizer (render/shadows.rs); this file only holds and reads them.
 
+use crate::envmap::chart::Face;
 use crate::lanes::{bits, gather, gather_words, CmpEq, CmpGt, CmpLt, F8, I8, LANES, V3};
 use crate::raster::visibility::EMPTY;
 use crate::raster::Camera;
@@ -26,7 +27,6 @@ pub struct ShadowSettings {
 }
 
 impl ShadowSettings {
-    pub const ON: ShadowSettings = ShadowSettings { enabled: true, size: None, bias: 1.0 };
     pub const OFF: ShadowSettings = ShadowSettings { enabled: false, size: None, bias: 1.0 };
 }
 
@@ -142,7 +142,7 @@ impl ShadowView {
 }
 
 /// What one light sees: one view (directional light, narrow spot), or a cube of six (point light, wide
-/// spot) in the order +X, -X, +Y, -Y, +Z, -Z of the direction from the light.
+/// spot) in the order of `envmap::chart::Face::ALL` (+X, -X, +Y, -Y, +Z, -Z) of the direction from the light.
 pub struct ShadowMap {
     pub views: Vec<ShadowView>,
     /// The light's position, for a cube's choice of face.
@@ -172,7 +172,7 @@ impl ShadowMap {
             return self.view_visibility8(&self.views[0], p, n, dpdx, dpdy, own);
         }
         // A cube: each lane reads the face its direction from the light points into.
-        let faces: [usize; LANES] = std::array::from_fn(|i| cube_face(p.lane(i) - self.origin));
+        let faces = Face::of8(&(p - V3::splat(self.origin))).to_array().map(|f| f as usize);
         let mut out = [1.0; LANES];
         for face in 0..6 {
             if faces.contains(&face) {
@@ -234,18 +234,6 @@ impl ShadowMap {
             out[i] = view.percentage_closer(Vec2::new(sx, sy), (rx, ry), (gx, gy), compared, z, own);
         }
         F8::new(out)
-    }
-}
-
-/// The face of a cube of maps (+X, -X, +Y, -Y, +Z, -Z) that direction `d` points into.
-fn cube_face(d: Vec3) -> usize {
-    let a = d.abs();
-    if a.x >= a.y && a.x >= a.z {
-        usize::from(d.x < 0.0)
-    } else if a.y >= a.z {
-        2 + usize::from(d.y < 0.0)
-    } else {
-        4 + usize::from(d.z < 0.0)
     }
 }
 

@@ -5,6 +5,7 @@
 //! light's angle to the view.
 
 use super::{displace, Drawn, TileJob, TileScratch};
+use crate::envmap::chart::Face;
 use crate::geometry::Instance;
 use crate::light::shadow::{depth_of_key, ShadowView, CUBE_MARGIN};
 use crate::light::{Light, ShadowMap, ShadowSettings, Shadows, Spot};
@@ -134,11 +135,14 @@ fn spot_camera(spot: &Spot, size: usize) -> Camera {
     square_perspective(spot.position, spot.forward, spot.up, spot.tan_half, size)
 }
 
-/// The six 90-degree views from `position`, in the order of `ShadowMap::views`.
+/// The six 90-degree views from `position`, one per cube face, in the order of `ShadowMap::views`.
 fn cube_cameras(position: Vec3, size: usize) -> Vec<Camera> {
-    [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z]
+    Face::ALL
         .into_iter()
-        .map(|d| square_perspective(position, d, up_for(d), 1.0, size))
+        .map(|face| {
+            let (outward, _, up) = face.axes();
+            square_perspective(position, outward, up, 1.0, size)
+        })
         .collect()
 }
 
