@@ -4,13 +4,11 @@ use crate::image_args::{row_bar, StreamArgs};
 use crate::normalmap::ConventionArg;
 use clap::Args;
 use std::path::PathBuf;
-use wrinkle::bump::integrate::{field_size, frankot_chellappa, BYTES_PER_FIELD_PIXEL};
+use wrinkle::bump::integrate::{field_size, frankot_chellappa, gradient_of_normal, settle_heights, BYTES_PER_FIELD_PIXEL};
 use wrinkle::bump::normal_map::decode_normal;
 use wrinkle::image::stream::{write_rows, ImageRows, OutputFormat, RowFormat};
 use wrinkle::{Error, Result};
 
-/// Normals closer to the picture's plane than this z are treated as this steep (the slope stays finite).
-const MIN_NZ: f32 = 1e-3;
 
 /// Integrate a tangent-space normal map back to a grey height image (Frankot-Chellappa)
 #[derive(Args, Debug)]
@@ -79,26 +77,18 @@ pub fn run(args: &HeightmapArgs) -> Result<()> {
     for y in 0..h {
         normals.read_rgb(&mut rgb)?;
         for px in rgb.chunks_exact(3) {
-            let [nx, ny, nz] = decode_normal([px[0], px[1], px[2]], convention);
-            let nz = nz.max(MIN_NZ) * args.strength;
-            p.push(-nx / nz);
-            // n_y points up the picture: dh/d(up) = -ny/nz, so dh/d(down) = ny/nz.
-            q.push(ny / nz);
+            let (dx, dy) = gradient_of_normal(decode_normal([px[0], px[1], px[2]], convention), args.strength);
+            p.push(dx);
+            q.push(dy);
         }
         bar.set_position(y as u64);
     }
     let mut heights = frankot_chellappa(&p, &q, w, h, args.wrap);
     drop((p, q));
-    let lo = heights.iter().copied().fold(f32::INFINITY, f32::min);
-    let hi = heights.iter().copied().fold(f32::NEG_INFINITY, f32::max);
-    let scale = if args.normalize && hi > lo { 1.0 / (hi - lo) } else { 1.0 };
-    for v in &mut heights {
-        *v = (*v - lo) * scale;
-    }
-    if !args.normalize && hi - lo > 1.0 {
+    let span = settle_heights(&mut heights, args.normalize);
+    if !args.normalize && span > 1.0 {
         eprintln!(
-            "warning: the heights span {:.3} of full scale; values above white are clipped (use --normalize or a larger --strength)",
-            hi - lo
+            "warning: the heights span {span:.3} of full scale; values above white are clipped (use --normalize or a larger --strength)"
         );
     }
     let rows = RowFormat { channels: 1, sixteen };

@@ -16,6 +16,9 @@ pub enum Error {
     /// A parameter given by the caller is out of range (an image size, a sample count).
     #[error("{0}")]
     Invalid(String),
+    /// The caller asked the work to stop before it was done.
+    #[error("interrupted")]
+    Interrupted,
 }
 
 pub type Result<T> = std::result::Result<T, Error>;

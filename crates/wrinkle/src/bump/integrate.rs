@@ -25,6 +25,31 @@ pub fn field_size(width: usize, height: usize, wrap: bool) -> (usize, usize) {
     }
 }
 
+/// Normals closer to the picture's plane than this z are treated as this steep (the slope stays finite).
+const MIN_NZ: f32 = 1e-3;
+
+/// The height gradient (p = dh/dx, q = dh/dy with y down the rows) of heights in [0, 1] under the unit
+/// normal `n` (OpenGL convention: y up the picture) of a map made with `strength` (the height of white above
+/// black in pixels).
+#[inline]
+pub fn gradient_of_normal(n: [f32; 3], strength: f32) -> (f32, f32) {
+    let nz = n[2].max(MIN_NZ) * strength;
+    // n_y points up the picture: dh/d(up) = -ny/nz, so dh/d(down) = ny/nz.
+    (-n[0] / nz, n[1] / nz)
+}
+
+/// Shifts integrated heights so the lowest is 0, and with `normalize` stretches them so the highest is 1.
+/// Returns the span (highest - lowest) before stretching.
+pub fn settle_heights(heights: &mut [f32], normalize: bool) -> f32 {
+    let lo = heights.iter().copied().fold(f32::INFINITY, f32::min);
+    let hi = heights.iter().copied().fold(f32::NEG_INFINITY, f32::max);
+    let scale = if normalize && hi > lo { 1.0 / (hi - lo) } else { 1.0 };
+    for v in heights.iter_mut() {
+        *v = (*v - lo) * scale;
+    }
+    hi - lo
+}
+
 /// Heights (up to a constant; mean zero over the field) whose gradient is nearest to (p, q) in the least
 /// squares sense. `p` is dh/dx with x to the right, `q` is dh/dy with y down the rows, both per pixel,
 /// row 0 at the top, `width * height` values each.

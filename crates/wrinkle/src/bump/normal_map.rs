@@ -9,7 +9,7 @@
 
 use super::schlag::round_to_bits;
 use crate::error::{Error, Result};
-use crate::image::strips::Window;
+use crate::image::strips::{filter_rows_in_memory, Edges, Window};
 
 /// The derivative kernel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -87,6 +87,40 @@ impl NormalMap {
             *y = gy * inv;
             *z = inv;
         }
+    }
+}
+
+impl NormalMap {
+    /// The unit normal of every pixel of a whole height image held in memory (`size` = (width, height),
+    /// heights in [0, 1], row 0 at the top), interleaved x, y, z.
+    pub fn normals_image(&self, heights: &[f32], size: (usize, usize), edges: Edges) -> Vec<[f32; 3]> {
+        let mut out = vec![[0.0; 3]; heights.len()];
+        filter_rows_in_memory(heights, size, edges, &mut out, |_, win, o| {
+            let n = o.len();
+            let mut planes = vec![0.0; 3 * n];
+            let (nx, rest) = planes.split_at_mut(n);
+            let (ny, nz) = rest.split_at_mut(n);
+            self.normals_row(win, nx, ny, nz);
+            for (i, p) in o.iter_mut().enumerate() {
+                *p = [nx[i], ny[i], nz[i]];
+            }
+        });
+        out
+    }
+
+    /// The slopes (the offset vectors) of every pixel of a whole height image held in memory, interleaved.
+    pub fn slopes_image(&self, heights: &[f32], size: (usize, usize), edges: Edges) -> Vec<[f32; 2]> {
+        let mut out = vec![[0.0; 2]; heights.len()];
+        filter_rows_in_memory(heights, size, edges, &mut out, |_, win, o| {
+            let n = o.len();
+            let mut planes = vec![0.0; 2 * n];
+            let (gx, gy) = planes.split_at_mut(n);
+            self.slopes_row(win, gx, gy);
+            for (i, p) in o.iter_mut().enumerate() {
+                *p = [gx[i], gy[i]];
+            }
+        });
+        out
     }
 }
 

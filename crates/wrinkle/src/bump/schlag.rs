@@ -17,7 +17,7 @@
 //! the top of the picture (+v), counter-clockwise; elevation 90 is straight above the picture.
 
 use crate::error::{Error, Result};
-use crate::image::strips::Window;
+use crate::image::strips::{filter_rows_in_memory, Edges, Window};
 
 /// The constants of one embossing: the unit light vector, N_z and the flat-pixel shade.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -104,24 +104,10 @@ pub fn modulate_rgb8(shade: &[f32], texture: &[u8], out: &mut [u8]) {
 }
 
 /// Embosses a whole grey image held in memory (intensities 0..255, row 0 at the top), border pixels
-/// reading the nearest edge pixel: the reference the streaming command is tested against.
+/// reading the nearest edge pixel: what the streaming command computes, for callers holding the image.
 pub fn emboss_image(heights: &[f32], width: usize, height: usize, emboss: &Emboss) -> Vec<f32> {
-    let padded: Vec<Vec<f32>> = (0..height)
-        .map(|y| {
-            let row = &heights[y * width..(y + 1) * width];
-            let mut p = Vec::with_capacity(width + 2);
-            p.push(row[0]);
-            p.extend_from_slice(row);
-            p.push(row[width - 1]);
-            p
-        })
-        .collect();
     let mut out = vec![0.0; width * height];
-    for y in 0..height {
-        let win =
-            Window { above: &padded[y.saturating_sub(1)], row: &padded[y], below: &padded[(y + 1).min(height - 1)] };
-        emboss.shade_row(win, &mut out[y * width..(y + 1) * width]);
-    }
+    filter_rows_in_memory(heights, (width, height), Edges::Clamp, &mut out, |_, win, o| emboss.shade_row(win, o));
     out
 }
 

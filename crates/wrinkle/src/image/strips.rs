@@ -55,6 +55,37 @@ fn pad(padded: &mut [f32], edges: Edges) {
     padded[n - 1] = right;
 }
 
+/// Fills `out` (`height` rows of equal length) row by row, in parallel, by `row(y, window, out_row)` over an
+/// image held in memory (`width * height` values, row 0 at the top), each window padded by the edge rule:
+/// the in-memory form of [`filter_3x3`], for callers that hold the whole image.
+pub fn filter_rows_in_memory<T: Send>(
+    values: &[f32],
+    (width, height): (usize, usize),
+    edges: Edges,
+    out: &mut [T],
+    row: impl Fn(usize, Window, &mut [T]) + Sync,
+) {
+    let padded: Vec<Vec<f32>> = values
+        .chunks_exact(width)
+        .map(|r| {
+            let mut p = Vec::with_capacity(width + 2);
+            p.push(0.0);
+            p.extend_from_slice(r);
+            p.push(0.0);
+            pad(&mut p, edges);
+            p
+        })
+        .collect();
+    let neighbours = |y: usize| match edges {
+        Edges::Clamp => (y.saturating_sub(1), (y + 1).min(height - 1)),
+        Edges::Wrap => ((y + height - 1) % height, (y + 1) % height),
+    };
+    out.par_chunks_mut(out.len() / height.max(1)).enumerate().for_each(|(y, o)| {
+        let (up, down) = neighbours(y);
+        row(y, Window { above: &padded[up], row: &padded[y], below: &padded[down] }, o)
+    });
+}
+
 /// The last row of an image, padded, read by decoding it to the end (for `Edges::Wrap`, where the first
 /// row's upper neighbour is the last row).
 pub fn last_row(mut rows: ImageRows, full_scale: f32) -> Result<Vec<f32>> {

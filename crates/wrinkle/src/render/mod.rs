@@ -32,7 +32,7 @@ use crate::{Error, Result};
 use glam::{Affine3A, Quat, Vec2, Vec3};
 use rayon::prelude::*;
 use std::borrow::Cow;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 
 /// The longest a tessellation segment may be on screen, in pixels.
@@ -115,7 +115,19 @@ pub fn render_with_progress(
     options: &RenderOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Frame> {
-    render_view(scene, &View { camera: &scene.camera, hidden: None, object_views: true }, options, progress)
+    render_view(scene, &View { camera: &scene.camera, hidden: None, object_views: true, stop: None }, options, progress)
+}
+
+/// Renders one frame like [`render_with_progress`], giving up with [`Error::Interrupted`] soon after `stop`
+/// is set (from another thread: a front end's interrupt).
+pub fn render_until(
+    scene: &Scene,
+    options: &RenderOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    stop: &AtomicBool,
+) -> Result<Frame> {
+    let view = View { camera: &scene.camera, hidden: None, object_views: true, stop: Some(stop) };
+    render_view(scene, &view, options, progress)
 }
 
 /// What one render sees the scene through.
@@ -125,6 +137,8 @@ struct View<'a> {
     hidden: Option<u32>,
     /// Whether objects with `reflect_views` get their six views rendered (not within those views).
     object_views: bool,
+    /// Set from elsewhere to give up: the bands not yet begun are skipped.
+    stop: Option<&'a AtomicBool>,
 }
 
 fn render_view(
@@ -226,6 +240,9 @@ fn render_view(
             || TileScratch::new(tile_size, options.spp),
             |scratch, (ty, color)| {
                 let mut aov = frame::AovBand::new(aovs, color.len(), options.spp);
+                if stopped(view) {
+                    return aov;
+                }
                 for tx in 0..bins.tiles_x {
                     job.tile(scratch, (tx, ty), color, &mut aov, w, h);
                 }
@@ -234,6 +251,9 @@ fn render_view(
             },
         )
         .collect();
+    if stopped(view) {
+        return Err(Error::Interrupted);
+    }
     frame.gather_aovs(band_aovs);
     stats.raster_shade_ms = ms(t);
     frame.stats = stats;
@@ -255,6 +275,10 @@ fn ibl(scene: &Scene) -> Option<Ibl> {
         .map(|m| (m.phong.specular > 0.0).then(|| env.lobe(Ibl::phong_exponent(m.phong.shininess))))
         .collect();
     Some(Ibl { radiance, diffuse: env.lobe(1.0), glossy })
+}
+
+fn stopped(view: &View) -> bool {
+    view.stop.is_some_and(|s| s.load(Ordering::Relaxed))
 }
 
 fn ms(t: Instant) -> f64 {

@@ -46,7 +46,7 @@ pub fn object_views(scene: &Scene, options: &RenderOptions, camera: &Camera) -> 
                     projection: Projection::Perspective { fov_y: 90.0 },
                     background: scene.camera.background,
                 };
-                let view = View { camera: &view_camera, hidden: Some(k as u32), object_views: false };
+                let view = View { camera: &view_camera, hidden: Some(k as u32), object_views: false, stop: None };
                 let frame = render_view(scene, &view, &face_options, &|_, _| {})?;
                 // OpenGL's faces are seen from inside a left-handed cube: s runs along -Z on +X, where a
                 // right-handed camera looking down +X has +Z on its right. Each row is mirrored.

@@ -1,0 +1,24 @@
+//! The Python extension module `wrinkle._wrinkle`: the core crate's functions over NumPy arrays. The
+//! package's Python layer (python/wrinkle) gives them their documented names, defaults and dtype rules;
+//! here every array arrives as C-contiguous float32 (or uint8 where named), and every long call releases
+//! the GIL and runs on all cores.
+
+use pyo3::prelude::*;
+
+mod arrays;
+mod errors;
+mod images;
+mod noise;
+mod scene;
+mod texture;
+
+#[pymodule]
+fn _wrinkle(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("SceneError", m.py().get_type::<errors::SceneError>())?;
+    m.add_class::<scene::Scene>()?;
+    m.add_class::<texture::Texture>()?;
+    images::register(m)?;
+    noise::register(m)?;
+    Ok(())
+}

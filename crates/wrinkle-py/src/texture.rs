@@ -1,0 +1,175 @@
+//! A filtered colour texture over arrays of lookups: every filter of the course by name.
+
+use crate::arrays::{flatten, output, shape, slice};
+use crate::errors::invalid;
+use glam::Vec4;
+use numpy::{PyArrayDyn, PyReadonlyArrayDyn};
+use pyo3::prelude::*;
+use rayon::prelude::*;
+use wrinkle::image::color::decode_rgba8;
+use wrinkle::image::Image;
+use wrinkle::texture::mip::build_levels;
+use wrinkle::texture::texel::Plane;
+use wrinkle::texture::{Filter, FilterOptions, FilteredTexture, Footprint, MipFilter, TextureOptions, Wrap};
+
+/// Lookups below this many run on the calling thread, the GIL held: a thread hand-off costs more.
+const PARALLEL_FROM: usize = 16384;
+
+/// Where the texels came from: kept to hand out the MIP pyramid in float.
+enum Source {
+    Bytes(Image<[u8; 4]>, bool),
+    Float(Image<[f32; 4]>),
+}
+
+#[pyclass(frozen, module = "wrinkle._wrinkle")]
+pub struct Texture {
+    texture: FilteredTexture,
+    source: Source,
+}
+
+fn parse<T: Copy>(what: &str, name: &str, names: &[(&str, T)]) -> PyResult<T> {
+    names.iter().find(|(n, _)| *n == name).map(|&(_, v)| v).ok_or_else(|| {
+        let all: Vec<&str> = names.iter().map(|(n, _)| *n).collect();
+        invalid(format!("{what}: expected one of {}, got \"{name}\"", all.join(", ")))
+    })
+}
+
+fn filter(name: &str) -> PyResult<Filter> {
+    Filter::parse(name)
+        .ok_or_else(|| invalid(format!("filter: expected one of {}, got \"{name}\"", Filter::names())))
+}
+
+fn filter_options(name: &str, max_aniso: f32) -> PyResult<FilterOptions> {
+    if !(max_aniso.is_finite() && (1.0..=64.0).contains(&max_aniso)) {
+        return Err(invalid(format!("max_aniso: expected a number from 1 to 64, got {max_aniso}")));
+    }
+    Ok(FilterOptions { filter: filter(name)?, max_aniso, ..FilterOptions::default() })
+}
+
+#[pymethods]
+impl Texture {
+    /// `rgba8` (H, W, 4) uint8, sRGB-encoded when `srgb`, or `rgba` (H, W, 4) float32 linear: exactly one.
+    #[new]
+    #[pyo3(signature = (rgba8, rgba, srgb, wrap, mip_filter, filter, max_aniso, border))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        py: Python<'_>,
+        rgba8: Option<PyReadonlyArrayDyn<'_, u8>>,
+        rgba: Option<PyReadonlyArrayDyn<'_, f32>>,
+        srgb: bool,
+        wrap: (String, String),
+        mip_filter: &str,
+        filter: &str,
+        max_aniso: f32,
+        border: [f32; 4],
+    ) -> PyResult<Texture> {
+        let options = TextureOptions {
+            wrap: [parse("wrap", &wrap.0, &Wrap::NAMES)?, parse("wrap", &wrap.1, &Wrap::NAMES)?],
+            border: Vec4::from(border),
+            mip_filter: parse("mip_filter", mip_filter, &MipFilter::NAMES)?,
+            filter: filter_options(filter, max_aniso)?,
+        };
+        let source = match (rgba8, rgba) {
+            (Some(a), None) => {
+                let s = shape("pixels", &a, &[None, None, Some(4)])?;
+                let pixels = slice("pixels", &a)?.chunks_exact(4).map(|p| [p[0], p[1], p[2], p[3]]).collect();
+                Source::Bytes(Image { width: s[1], height: s[0], pixels }, srgb)
+            }
+            (None, Some(a)) => {
+                let s = shape("pixels", &a, &[None, None, Some(4)])?;
+                let values = slice("pixels", &a)?;
+                if values.iter().any(|v| !v.is_finite()) {
+                    return Err(invalid("pixels: NaN or infinite values"));
+                }
+                let pixels = values.chunks_exact(4).map(|p| [p[0], p[1], p[2], p[3]]).collect();
+                Source::Float(Image { width: s[1], height: s[0], pixels })
+            }
+            _ => return Err(invalid("give the pixels as uint8 or float32")),
+        };
+        let (w, h) = match &source {
+            Source::Bytes(i, _) => (i.width, i.height),
+            Source::Float(i) => (i.width, i.height),
+        };
+        wrinkle::image::io::check_size(w, h).map_err(|m| invalid(format!("pixels: {m}")))?;
+        let texture = py.detach(|| match &source {
+            Source::Bytes(image, srgb) => FilteredTexture::from_rgba8(image, *srgb, options),
+            Source::Float(image) => FilteredTexture::new(image, options),
+        });
+        Ok(Texture { texture, source })
+    }
+
+    /// (width, height) in texels.
+    #[getter]
+    fn size(&self) -> (usize, usize) {
+        match &self.source {
+            Source::Bytes(i, _) => (i.width, i.height),
+            Source::Float(i) => (i.width, i.height),
+        }
+    }
+
+    /// The filtered texture at each (s, t) of `uv` (N, 2), one period per unit, t up the image, with the
+    /// footprint (N, 4) = (ds/dx, dt/dx, ds/dy, dt/dy) per lookup (None: a point), as RGBA (N, 4).
+    #[pyo3(signature = (uv, footprint, filter, max_aniso))]
+    fn sample<'py>(
+        &self,
+        py: Python<'py>,
+        uv: PyReadonlyArrayDyn<'py, f32>,
+        footprint: Option<PyReadonlyArrayDyn<'py, f32>>,
+        filter: Option<&str>,
+        max_aniso: Option<f32>,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
+        let n = shape("uv", &uv, &[None, Some(2)])?[0];
+        let uv = slice("uv", &uv)?;
+        let fp = match &footprint {
+            Some(f) => {
+                shape("footprint", f, &[Some(n), Some(4)])?;
+                Some(slice("footprint", f)?)
+            }
+            None => None,
+        };
+        let current = self.texture.options().filter;
+        let texture = match (filter, max_aniso) {
+            (None, None) => None,
+            (f, a) => Some(self.texture.with_options(filter_options(
+                f.unwrap_or(current.filter.name()),
+                a.unwrap_or(current.max_aniso),
+            )?)),
+        };
+        let texture = texture.as_ref().unwrap_or(&self.texture);
+        let look = |i: usize| -> [f32; 4] {
+            let f = fp.map_or(Footprint { dudx: 0.0, dvdx: 0.0, dudy: 0.0, dvdy: 0.0 }, |f| Footprint {
+                dudx: f[4 * i],
+                dvdx: f[4 * i + 1],
+                dudy: f[4 * i + 2],
+                dvdy: f[4 * i + 3],
+            });
+            texture.lookup(uv[2 * i], uv[2 * i + 1], &f).to_array()
+        };
+        let values: Vec<[f32; 4]> = if n < PARALLEL_FROM {
+            (0..n).map(look).collect()
+        } else {
+            py.detach(|| (0..n).into_par_iter().with_min_len(4096).map(look).collect())
+        };
+        Ok(output(py, &[n, 4], flatten(values)))
+    }
+
+    /// The MIP pyramid in linear light, level 0 first, each (H, W, 4) float32 (row 0 at the top).
+    fn mipmap<'py>(&self, py: Python<'py>) -> Vec<Bound<'py, PyArrayDyn<f32>>> {
+        let options = self.texture.options();
+        let levels = py.detach(|| {
+            let (w, h, linear) = match &self.source {
+                Source::Bytes(i, srgb) => (i.width, i.height, decode_rgba8(&i.pixels, *srgb)),
+                Source::Float(i) => (i.width, i.height, i.pixels.clone()),
+            };
+            let base = Plane::from_top_rows_with(w, h, &linear, Vec4::from);
+            build_levels(base, options.mip_filter, options.wrap)
+        });
+        levels
+            .into_iter()
+            .map(|l| {
+                let rows = (0..l.height).rev().flat_map(|j| &l.texels[j * l.width..(j + 1) * l.width]);
+                output(py, &[l.height, l.width, 4], rows.flat_map(|t| t.to_array()).collect())
+            })
+            .collect()
+    }
+}
