@@ -170,10 +170,16 @@ fn render_interruptibly(
             });
             rx = back;
             if let Ok(result) = result {
-                return match failure {
-                    Some(e) => Err(e),
-                    None => result.map_err(to_py),
-                };
+                if let Some(e) = failure {
+                    return Err(e);
+                }
+                let frame = result.map_err(to_py)?;
+                // The last report, which a render faster than one look never gave.
+                let d = done.load(Ordering::Relaxed);
+                if let (Some(callback), true) = (progress, d > told) {
+                    callback.call1((d, total.load(Ordering::Relaxed)))?;
+                }
+                return Ok(frame);
             }
             if failure.is_some() {
                 continue;
