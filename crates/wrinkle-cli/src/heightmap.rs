@@ -4,11 +4,12 @@ use crate::image_args::{row_bar, StreamArgs};
 use crate::normalmap::ConventionArg;
 use clap::Args;
 use std::path::PathBuf;
-use wrinkle::bump::integrate::{field_size, frankot_chellappa, gradient_of_normal, settle_heights, BYTES_PER_FIELD_PIXEL};
+use wrinkle::bump::integrate::{
+    field_size, frankot_chellappa, gradient_of_normal, settle_heights, BYTES_PER_FIELD_PIXEL,
+};
 use wrinkle::bump::normal_map::decode_normal;
 use wrinkle::image::stream::{write_rows, ImageRows, OutputFormat, RowFormat};
 use wrinkle::{Error, Result};
-
 
 /// Integrate a tangent-space normal map back to a grey height image (Frankot-Chellappa)
 #[derive(Args, Debug)]

@@ -137,9 +137,17 @@ fn run_cli() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e}");
+            eprintln!("error: {}", describe(&e));
             ExitCode::from(exit_code(&e))
         }
+    }
+}
+
+/// The error in the command line's words: a parameter is named by its option (`--line-width`).
+fn describe(e: &wrinkle::Error) -> String {
+    match e {
+        wrinkle::Error::Parameter { name, message } => format!("--{} {message}", name.replace('_', "-")),
+        other => other.to_string(),
     }
 }
 

@@ -20,6 +20,8 @@ pub fn to_py(e: Error) -> PyErr {
         Error::Scene { .. } => SceneError::new_err(message),
         Error::Read { path, .. } if !path.exists() => PyFileNotFoundError::new_err(message),
         Error::Read { .. } | Error::Write { .. } => PyOSError::new_err(message),
+        // A parameter in Python's words: the keyword argument.
+        Error::Parameter { name, message } => PyValueError::new_err(format!("{name}= {message}")),
         Error::Invalid(_) => PyValueError::new_err(message),
         Error::Interrupted => PyKeyboardInterrupt::new_err(message),
     }

@@ -60,7 +60,13 @@ fn per_point<const N: usize>(
 
 /// Deinterleaves a chunk of points into x, y, z (z = 0 for 2D points).
 fn axes(p: &[f32], dims: usize) -> [Vec<f32>; 3] {
-    std::array::from_fn(|a| if a < dims { p.iter().skip(a).step_by(dims).copied().collect() } else { vec![0.0; p.len() / dims] })
+    std::array::from_fn(|a| {
+        if a < dims {
+            p.iter().skip(a).step_by(dims).copied().collect()
+        } else {
+            vec![0.0; p.len() / dims]
+        }
+    })
 }
 
 /// Perlin's noise (in about [-1, 1]) at every point.

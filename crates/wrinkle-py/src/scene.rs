@@ -100,8 +100,9 @@ impl Scene {
             bump,
             bump_filter: bump_filter
                 .map(|f| {
-                    Filter::parse(f)
-                        .ok_or_else(|| invalid(format!("bump_filter: expected one of {}, got \"{f}\"", Filter::names())))
+                    Filter::parse(f).ok_or_else(|| {
+                        invalid(format!("bump_filter: expected one of {}, got \"{f}\"", Filter::names()))
+                    })
                 })
                 .transpose()?,
             turntable_degrees: turntable,
@@ -110,7 +111,11 @@ impl Scene {
             transparency: match transparency {
                 "sorted" => Transparency::Sorted,
                 "exact" => Transparency::Exact,
-                _ => return Err(invalid(format!("transparency: expected \"sorted\" or \"exact\", got \"{transparency}\""))),
+                _ => {
+                    return Err(invalid(format!(
+                        "transparency: expected \"sorted\" or \"exact\", got \"{transparency}\""
+                    )))
+                }
             },
         };
         options.validate().py_err()?;
@@ -226,7 +231,8 @@ fn to_toml(v: &Bound<'_, PyAny>, at: &str) -> PyResult<toml::Value> {
     }
     if v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>() {
         let items: Vec<Bound<'_, PyAny>> = v.try_iter()?.collect::<PyResult<_>>()?;
-        let values = items.iter().enumerate().map(|(i, x)| to_toml(x, &format!("{at}[{i}]"))).collect::<PyResult<_>>()?;
+        let values =
+            items.iter().enumerate().map(|(i, x)| to_toml(x, &format!("{at}[{i}]"))).collect::<PyResult<_>>()?;
         return Ok(toml::Value::Array(values));
     }
     // NumPy scalars and anything else with a float value (but not strings, handled above).
@@ -236,4 +242,3 @@ fn to_toml(v: &Bound<'_, PyAny>, at: &str) -> PyResult<toml::Value> {
     let what = v.get_type().name().map(|n| n.to_string()).unwrap_or_default();
     Err(PyTypeError::new_err(format!("{}: a {what} has no place in a scene", if at.is_empty() { "scene" } else { at })))
 }
-

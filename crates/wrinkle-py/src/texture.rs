@@ -34,9 +34,16 @@ fn parse<T: Copy>(what: &str, name: &str, names: &[(&str, T)]) -> PyResult<T> {
     })
 }
 
+/// The values, refused when any is NaN or infinite (a lookup there has no meaning).
+fn finite<'a>(name: &str, values: &'a [f32]) -> PyResult<&'a [f32]> {
+    match values.iter().all(|v| v.is_finite()) {
+        true => Ok(values),
+        false => Err(invalid(format!("{name}: contains NaN or infinite values"))),
+    }
+}
+
 fn filter(name: &str) -> PyResult<Filter> {
-    Filter::parse(name)
-        .ok_or_else(|| invalid(format!("filter: expected one of {}, got \"{name}\"", Filter::names())))
+    Filter::parse(name).ok_or_else(|| invalid(format!("filter: expected one of {}, got \"{name}\"", Filter::names())))
 }
 
 fn filter_options(name: &str, max_aniso: f32) -> PyResult<FilterOptions> {
@@ -119,21 +126,21 @@ impl Texture {
         max_aniso: Option<f32>,
     ) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
         let n = shape("uv", &uv, &[None, Some(2)])?[0];
-        let uv = slice("uv", &uv)?;
+        let uv = finite("uv", slice("uv", &uv)?)?;
         let fp = match &footprint {
             Some(f) => {
                 shape("footprint", f, &[Some(n), Some(4)])?;
-                Some(slice("footprint", f)?)
+                Some(finite("footprint", slice("footprint", f)?)?)
             }
             None => None,
         };
         let current = self.texture.options().filter;
         let texture = match (filter, max_aniso) {
             (None, None) => None,
-            (f, a) => Some(self.texture.with_options(filter_options(
-                f.unwrap_or(current.filter.name()),
-                a.unwrap_or(current.max_aniso),
-            )?)),
+            (f, a) => Some(
+                self.texture
+                    .with_options(filter_options(f.unwrap_or(current.filter.name()), a.unwrap_or(current.max_aniso))?),
+            ),
         };
         let texture = texture.as_ref().unwrap_or(&self.texture);
         let look = |i: usize| -> [f32; 4] {
@@ -151,6 +158,18 @@ impl Texture {
             py.detach(|| (0..n).into_par_iter().with_min_len(4096).map(look).collect())
         };
         Ok(output(py, &[n, 4], flatten(values)))
+    }
+
+    /// One lookup at (s, t) with the footprint (ds/dx, dt/dx, ds/dy, dt/dy) (None: a point), as an RGBA
+    /// tuple: the per-point form of `sample`, which makes no arrays.
+    #[pyo3(signature = (s, t, footprint=None))]
+    fn lookup(&self, s: f32, t: f32, footprint: Option<(f32, f32, f32, f32)>) -> PyResult<(f32, f32, f32, f32)> {
+        let (dudx, dvdx, dudy, dvdy) = footprint.unwrap_or_default();
+        if ![s, t, dudx, dvdx, dudy, dvdy].iter().all(|v| v.is_finite()) {
+            return Err(invalid("lookup: NaN or infinite coordinates"));
+        }
+        let [r, g, b, a] = self.texture.lookup(s, t, &Footprint { dudx, dvdx, dudy, dvdy }).to_array();
+        Ok((r, g, b, a))
     }
 
     /// The MIP pyramid in linear light, level 0 first, each (H, W, 4) float32 (row 0 at the top).

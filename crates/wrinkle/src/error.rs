@@ -13,7 +13,12 @@ pub enum Error {
     /// An output file could not be written.
     #[error("{}: cannot write: {message}", path.display())]
     Write { path: PathBuf, message: String },
-    /// A parameter given by the caller is out of range (an image size, a sample count).
+    /// A parameter given by the caller is out of range, by its own name (`spp`, `line_width`); `message`
+    /// follows the name ("must be 1, 4 or 16, got 3"). Each front end words the name its way: `--spp` on the
+    /// command line, the field's path in a scene, `spp=` in Python.
+    #[error("{name} {message}")]
+    Parameter { name: &'static str, message: String },
+    /// A request that cannot be carried out, not tied to one parameter.
     #[error("{0}")]
     Invalid(String),
     /// The caller asked the work to stop before it was done.
@@ -32,5 +37,8 @@ impl Error {
     }
     pub fn write(path: impl Into<PathBuf>, message: impl std::fmt::Display) -> Self {
         Error::Write { path: path.into(), message: message.to_string() }
+    }
+    pub fn parameter(name: &'static str, message: impl Into<String>) -> Self {
+        Error::Parameter { name, message: message.into() }
     }
 }

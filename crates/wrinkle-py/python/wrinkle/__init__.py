@@ -16,14 +16,24 @@ from typing import Callable, Iterable, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
-from . import _wrinkle
-from . import bumpgen, noise
-from ._arrays import floats, grey
-from ._wrinkle import SceneError
+from . import _cpu
+
+_cpu.check()
+
+from . import _wrinkle  # noqa: E402  (after the CPU check, on purpose)
+from . import bumpgen, noise  # noqa: E402
+from .tables import (  # noqa: E402
+    Bicubic, Billboard, Box, Bump, Camera, Cylinder, Environment, Light, Material, Mesh, Patch, Sphere, Table,
+    Torus, Volume, plain,
+)
+from ._arrays import floats, grey  # noqa: E402
+from ._wrinkle import SceneError  # noqa: E402
 
 __version__: str = _wrinkle.__version__
 
 __all__ = [
+    "Bicubic", "Billboard", "Box", "Bump", "Camera", "Cylinder", "Environment", "Light", "Material", "Mesh",
+    "Patch", "Sphere", "Table", "Torus", "Volume",
     "Scene",
     "SceneError",
     "Texture",
@@ -98,6 +108,24 @@ class Scene:
         if not isinstance(tables, dict):
             raise TypeError(f"tables: expected a dict, got {type(tables).__name__}")
         return Scene(_wrinkle.Scene.from_dict(tables, Path(base if base is not None else ".")))
+
+    @staticmethod
+    def build(
+        camera: Union[Table, dict],
+        lights: Iterable[Union[Table, dict]] = (),
+        objects: Iterable[Union[Table, dict]] = (),
+        volumes: Iterable[Union[Table, dict]] = (),
+        environment: Union[Table, dict, None] = None,
+        base: Optional[PathLike] = None,
+    ) -> "Scene":
+        """A scene from Python objects: `Camera`, `Light`s, objects (`Sphere`, `Patch`, `Mesh`, ...) with
+        their `Material` and `Bump`, `Volume`s and an `Environment` (or dictionaries in their place)."""
+        tables = {"camera": plain(camera), "light": plain(list(lights)), "object": plain(list(objects))}
+        if volumes:
+            tables["volume"] = plain(list(volumes))
+        if environment is not None:
+            tables["environment"] = plain(environment)
+        return Scene.from_dict(tables, base)
 
     @staticmethod
     def default() -> "Scene":
@@ -225,6 +253,11 @@ class Texture:
                 fp = fp[None, :]
         out = self._texture.sample(uv_a, fp, filter, None if max_aniso is None else float(max_aniso))
         return out[0] if single else out
+
+    def lookup(self, s: float, t: float, footprint: Optional[Tuple[float, float, float, float]] = None) -> Tuple[float, float, float, float]:
+        """One lookup at (s, t) with the footprint (ds/dx, dt/dx, ds/dy, dt/dy) (None: a point), as an RGBA
+        tuple: the per-point form of `sample`, for loops over single points (it makes no arrays)."""
+        return self._texture.lookup(s, t, footprint)
 
     def mipmap(self) -> list:
         """The MIP pyramid in linear light, full resolution first, each level (H, W, 4) float32."""

@@ -104,7 +104,7 @@ impl Generator {
         if size <= MAX_SIZE {
             // A table is held whole, as an image file is: the same size limits, checked before any work.
             crate::image::io::check_size(size * letters, size)
-                .map_err(|m| Error::Invalid(format!("--size {size}: the table's {m}")))?;
+                .map_err(|m| Error::parameter("size", format!("{size} is too large: the table's {m}")))?;
             crate::limits::reserve(texels.saturating_mul(4 + 16 / 3), || format!("a {size}-texel bump table"))?;
         }
         match self {
@@ -119,10 +119,10 @@ impl Generator {
 /// Fig. 5: a gridwork of high lines on a low floor, `size` x `size` texels, one line centred on
 /// every cell boundary, with smoothstep edges `soft` cells wide.
 pub fn grid(size: usize, p: &GridParams) -> Result<GreyImage> {
-    check("--size", size, 1, MAX_SIZE)?;
-    check("--cells", p.cells, 1, size)?;
-    check("--line-width", p.line_width, 0.0, 1.0)?;
-    check("--soft", p.soft, 0.0, 1.0)?;
+    check("size", size, 1, MAX_SIZE)?;
+    check("cells", p.cells, 1, size)?;
+    check("line_width", p.line_width, 0.0, 1.0)?;
+    check("soft", p.soft, 0.0, 1.0)?;
     let (cells, soft) = (p.cells as f64, p.soft as f64);
     let outer = (p.line_width as f64 + soft) / 2.0;
     let line = |t: f64| smoothstep(ramp(outer - (t - t.round()).abs(), soft));
@@ -136,18 +136,18 @@ pub fn grid(size: usize, p: &GridParams) -> Result<GreyImage> {
 /// `size` texels high; glyph pixels are scaled by nearest neighbour, then softened by a periodic
 /// tent blur of radius `soft` glyph pixels.
 pub fn text(size: usize, p: &TextParams) -> Result<GreyImage> {
-    check("--size", size, 1, MAX_SIZE)?;
+    check("size", size, 1, MAX_SIZE)?;
     if p.text.is_empty() {
-        return Err(Error::Invalid("--text must not be empty".into()));
+        return Err(Error::parameter("text", "must not be empty"));
     }
-    check("--soft", p.soft, 0.0, 1.0)?;
+    check("soft", p.soft, 0.0, 1.0)?;
     let glyphs: Vec<[u8; 8]> = p.text.chars().map(glyph).collect();
     let width = size.saturating_mul(glyphs.len());
     if width > MAX_SIZE {
-        return Err(Error::Invalid(format!(
-            "--text of {} characters at --size {size} is {width} texels wide, more than {MAX_SIZE}",
-            glyphs.len()
-        )));
+        return Err(Error::parameter(
+            "text",
+            format!("of {} characters at size {size} is {width} texels wide, more than {MAX_SIZE}", glyphs.len()),
+        ));
     }
     // Nearest neighbour: texel k of a cell samples glyph pixel floor((k + 0.5) * 8 / size).
     let glyph_pixel = |k: usize| (8 * (k % size) + 4) / size;
@@ -164,15 +164,18 @@ pub fn text(size: usize, p: &TextParams) -> Result<GreyImage> {
 /// `radius` cells (depth sqrt(r^2 - d^2) / r, 0 where the ray misses), and that cell is repeated
 /// `count` x `count` times.
 pub fn rivets(size: usize, p: &RivetParams) -> Result<GreyImage> {
-    check("--size", size, 1, MAX_SIZE)?;
-    check("--count", p.count, 1, size)?;
+    check("size", size, 1, MAX_SIZE)?;
+    check("count", p.count, 1, size)?;
     if !size.is_multiple_of(p.count) {
-        return Err(Error::Invalid(format!(
-            "--count must divide --size so that every rivet cell is a whole number of texels, got {} for size {size}",
-            p.count
-        )));
+        return Err(Error::parameter(
+            "count",
+            format!(
+                "must divide the size so that every rivet cell is a whole number of texels, got {} for size {size}",
+                p.count
+            ),
+        ));
     }
-    check("--radius", p.radius, 0.0, 0.5)?;
+    check("radius", p.radius, 0.0, 0.5)?;
     let (cell, r) = (size / p.count, p.radius as f64);
     let depth = Image::from_fn(cell, cell, |x, y| {
         let (u, v) = texel_uv(x, y, cell, cell);
@@ -189,14 +192,14 @@ pub fn rivets(size: usize, p: &RivetParams) -> Result<GreyImage> {
 /// Fig. 8: a running-bond brick unit cell, `size` x `size` texels. Each course is offset by half a
 /// brick from the one below; bricks are 1 with a linear bevel down to the mortar, which is 0.
 pub fn bricks(size: usize, p: &BrickParams) -> Result<GreyImage> {
-    check("--size", size, 1, MAX_SIZE)?;
-    check("--rows", p.rows, 2, size)?;
+    check("size", size, 1, MAX_SIZE)?;
+    check("rows", p.rows, 2, size)?;
     if !p.rows.is_multiple_of(2) {
-        return Err(Error::Invalid(format!("--rows must be even so that the running bond tiles, got {}", p.rows)));
+        return Err(Error::parameter("rows", format!("must be even so that the running bond tiles, got {}", p.rows)));
     }
-    check("--bricks-per-row", p.bricks_per_row, 1, size)?;
-    check("--mortar", p.mortar, 0.0, 1.0)?;
-    check("--bevel", p.bevel, 0.0, 1.0)?;
+    check("bricks_per_row", p.bricks_per_row, 1, size)?;
+    check("mortar", p.mortar, 0.0, 1.0)?;
+    check("bevel", p.bevel, 0.0, 1.0)?;
     // Lengths below are in course heights.
     let rows = p.rows as f64;
     let brick = rows / p.bricks_per_row as f64;
@@ -298,11 +301,11 @@ fn wrap(i: usize, k: isize, n: usize) -> usize {
 }
 
 /// `Error::Invalid` naming `name` unless `lo <= value <= hi` (NaN is never in range).
-fn check<T: PartialOrd + Display>(name: &str, value: T, lo: T, hi: T) -> Result<()> {
+fn check<T: PartialOrd + Display>(name: &'static str, value: T, lo: T, hi: T) -> Result<()> {
     if lo <= value && value <= hi {
         Ok(())
     } else {
-        Err(Error::Invalid(format!("{name} must be between {lo} and {hi}, got {value}")))
+        Err(Error::parameter(name, format!("must be between {lo} and {hi}, got {value}")))
     }
 }
 
@@ -356,8 +359,8 @@ mod tests {
 
     fn invalid_message(r: Result<GreyImage>) -> String {
         match r {
-            Err(Error::Invalid(m)) => m,
-            other => panic!("expected Error::Invalid, got {other:?}"),
+            Err(e @ Error::Parameter { .. }) => e.to_string(),
+            other => panic!("expected Error::Parameter, got {other:?}"),
         }
     }
 
@@ -546,30 +549,27 @@ mod tests {
     fn invalid_parameters_are_rejected_with_their_names() {
         let (g, b) = (GridParams::default, BrickParams::default);
         let cases = [
-            (grid(0, &g()), "--size must be between 1 and 32768, got 0"),
-            (grid(32769, &g()), "--size must be between 1 and 32768, got 32769"),
-            (grid(64, &GridParams { cells: 0, ..g() }), "--cells must be between 1 and 64, got 0"),
-            (grid(64, &GridParams { line_width: -0.1, ..g() }), "--line-width must be between 0 and 1, got -0.1"),
-            (grid(64, &GridParams { soft: f32::NAN, ..g() }), "--soft must be between 0 and 1, got NaN"),
-            (text(64, &TextParams { text: String::new(), soft: 0.1 }), "--text must not be empty"),
-            (
-                text(64, &TextParams { text: "A".into(), soft: f32::INFINITY }),
-                "--soft must be between 0 and 1, got inf",
-            ),
+            (grid(0, &g()), "size must be between 1 and 32768, got 0"),
+            (grid(32769, &g()), "size must be between 1 and 32768, got 32769"),
+            (grid(64, &GridParams { cells: 0, ..g() }), "cells must be between 1 and 64, got 0"),
+            (grid(64, &GridParams { line_width: -0.1, ..g() }), "line_width must be between 0 and 1, got -0.1"),
+            (grid(64, &GridParams { soft: f32::NAN, ..g() }), "soft must be between 0 and 1, got NaN"),
+            (text(64, &TextParams { text: String::new(), soft: 0.1 }), "text must not be empty"),
+            (text(64, &TextParams { text: "A".into(), soft: f32::INFINITY }), "soft must be between 0 and 1, got inf"),
             (
                 text(8192, &TextParams { text: "HELLO".into(), soft: 0.1 }),
-                "--text of 5 characters at --size 8192 is 40960 texels wide, more than 32768",
+                "text of 5 characters at size 8192 is 40960 texels wide, more than 32768",
             ),
-            (rivets(64, &RivetParams { count: 0, radius: 0.3 }), "--count must be between 1 and 64, got 0"),
+            (rivets(64, &RivetParams { count: 0, radius: 0.3 }), "count must be between 1 and 64, got 0"),
             (
                 rivets(64, &RivetParams { count: 3, radius: 0.3 }),
-                "--count must divide --size so that every rivet cell is a whole number of texels, got 3 for size 64",
+                "count must divide the size so that every rivet cell is a whole number of texels, got 3 for size 64",
             ),
-            (rivets(64, &RivetParams { count: 4, radius: 0.6 }), "--radius must be between 0 and 0.5, got 0.6"),
-            (bricks(64, &BrickParams { rows: 3, ..b() }), "--rows must be even so that the running bond tiles, got 3"),
-            (bricks(64, &BrickParams { bricks_per_row: 0, ..b() }), "--bricks-per-row must be between 1 and 64, got 0"),
-            (bricks(64, &BrickParams { mortar: -0.5, ..b() }), "--mortar must be between 0 and 1, got -0.5"),
-            (bricks(64, &BrickParams { bevel: f32::NEG_INFINITY, ..b() }), "--bevel must be between 0 and 1, got -inf"),
+            (rivets(64, &RivetParams { count: 4, radius: 0.6 }), "radius must be between 0 and 0.5, got 0.6"),
+            (bricks(64, &BrickParams { rows: 3, ..b() }), "rows must be even so that the running bond tiles, got 3"),
+            (bricks(64, &BrickParams { bricks_per_row: 0, ..b() }), "bricks_per_row must be between 1 and 64, got 0"),
+            (bricks(64, &BrickParams { mortar: -0.5, ..b() }), "mortar must be between 0 and 1, got -0.5"),
+            (bricks(64, &BrickParams { bevel: f32::NEG_INFINITY, ..b() }), "bevel must be between 0 and 1, got -inf"),
         ];
         for (result, message) in cases {
             assert_eq!(invalid_message(result), message);

@@ -38,7 +38,7 @@ pub struct NormalMap {
 impl NormalMap {
     pub fn new(kernel: Kernel, strength: f32, convention: Convention) -> Result<NormalMap> {
         if !(strength.is_finite() && strength > 0.0) {
-            return Err(Error::Invalid(format!("--strength must be a positive number, got {strength}")));
+            return Err(Error::parameter("strength", format!("must be a positive number, got {strength}")));
         }
         Ok(NormalMap { kernel, strength, convention })
     }

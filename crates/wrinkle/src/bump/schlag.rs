@@ -32,13 +32,16 @@ impl Emboss {
     /// Azimuth and elevation in degrees (elevation in [0, 90]), bevel width `w` > 0 in pixels.
     pub fn new(azimuth_deg: f32, elevation_deg: f32, width: f32) -> Result<Emboss> {
         if !azimuth_deg.is_finite() {
-            return Err(Error::Invalid(format!("--azimuth must be a finite number of degrees, got {azimuth_deg}")));
+            return Err(Error::parameter("azimuth", format!("must be a finite number of degrees, got {azimuth_deg}")));
         }
         if !(0.0..=90.0).contains(&elevation_deg) {
-            return Err(Error::Invalid(format!("--elevation must be between 0 and 90 degrees, got {elevation_deg}")));
+            return Err(Error::parameter(
+                "elevation",
+                format!("must be between 0 and 90 degrees, got {elevation_deg}"),
+            ));
         }
         if !(width.is_finite() && width > 0.0) {
-            return Err(Error::Invalid(format!("--width must be a positive number of pixels, got {width}")));
+            return Err(Error::parameter("width", format!("must be a positive number of pixels, got {width}")));
         }
         let light = light_direction(azimuth_deg, elevation_deg);
         Ok(Emboss { light, nz: 6.0 * 255.0 / width, flat: light[2] })
@@ -127,8 +130,8 @@ mod tests {
     #[test]
     fn bad_parameters_are_refused() {
         assert!(Emboss::new(f32::NAN, 45.0, 3.0).is_err());
-        assert!(Emboss::new(0.0, 91.0, 3.0).unwrap_err().to_string().contains("--elevation"));
-        assert!(Emboss::new(0.0, 45.0, 0.0).unwrap_err().to_string().contains("--width"));
+        assert!(matches!(Emboss::new(0.0, 91.0, 3.0), Err(Error::Parameter { name: "elevation", .. })));
+        assert!(matches!(Emboss::new(0.0, 45.0, 0.0), Err(Error::Parameter { name: "width", .. })));
         assert!(Emboss::new(0.0, 45.0, f32::INFINITY).is_err());
     }
 

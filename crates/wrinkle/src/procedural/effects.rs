@@ -147,7 +147,8 @@ impl Params {
 
     /// Checks every parameter, naming the first one out of range.
     pub fn validate(&self) -> Result<()> {
-        let bad = |name: &str, what: &str, v: f32| Err(Error::Invalid(format!("{name}: expected {what}, got {v}")));
+        let bad =
+            |name: &'static str, what: &str, v: f32| Err(Error::parameter(name, format!("must be {what}, got {v}")));
         if !(self.scale.is_finite() && self.scale > 0.0) {
             return bad("scale", "a positive number", self.scale);
         }
@@ -171,13 +172,13 @@ impl Params {
             }
         }
         if self.colors.is_empty() {
-            return Err(Error::Invalid("colors: expected at least one colour".into()));
+            return Err(Error::parameter("colors", "must hold at least one colour"));
         }
         if let Some(c) = self.colors.iter().find(|c| c.iter().any(|v| !v.is_finite() || *v < 0.0)) {
-            return Err(Error::Invalid(format!(
-                "colors: expected non-negative colour components, got [{}, {}, {}]",
-                c[0], c[1], c[2]
-            )));
+            return Err(Error::parameter(
+                "colors",
+                format!("must have non-negative components, got [{}, {}, {}]", c[0], c[1], c[2]),
+            ));
         }
         Ok(())
     }
@@ -547,7 +548,7 @@ mod tests {
         }
         let mut bad = Params::new(Kind::Marble);
         bad.octaves.gain = 1.5;
-        let e = Pattern::new(bad, 3, false).unwrap_err().to_string();
-        assert!(e.starts_with("gain:"), "{e}");
+        let e = Pattern::new(bad, 3, false).unwrap_err();
+        assert!(matches!(e, Error::Parameter { name: "gain", .. }), "{e}");
     }
 }

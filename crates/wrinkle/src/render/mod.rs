@@ -83,7 +83,7 @@ impl RenderOptions {
         let (side, pixels) = (Limit::FrameSide.count(), Limit::FramePixels.count());
         for (name, v) in [("width", self.width), ("height", self.height)] {
             if v == 0 || v > side {
-                return Err(Error::Invalid(format!("--{name} must be between 1 and {side}, got {v}")));
+                return Err(Error::parameter(name, format!("must be between 1 and {side}, got {v}")));
             }
         }
         if self.width * self.height > pixels {
@@ -95,7 +95,7 @@ impl RenderOptions {
             )));
         }
         if SamplePattern::new(self.spp).is_none() {
-            return Err(Error::Invalid(format!("--spp must be 1, 4 or 16, got {}", self.spp)));
+            return Err(Error::parameter("spp", format!("must be 1, 4 or 16, got {}", self.spp)));
         }
         if !self.turntable_degrees.is_finite() {
             return Err(Error::Invalid("turntable angle must be finite".into()));

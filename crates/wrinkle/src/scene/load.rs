@@ -771,13 +771,10 @@ fn parse_generator(path: &str, v: &Value) -> Result<crate::image::GreyImage> {
             ))
         }
     };
-    // The generators name their parameters as `bumpgen` options (--line-width); here they are fields.
+    // The generators name their parameters by the fields' own names.
     generator.generate(size).map_err(|e| match e {
-        Error::Invalid(m) => {
-            let m =
-                GENERATOR_FIELDS[1..].iter().fold(m, |m, key| m.replace(&format!("--{}", key.replace('_', "-")), key));
-            Error::scene(path, m)
-        }
+        Error::Parameter { name, message } => Error::scene(format!("{path}.{name}"), message),
+        Error::Invalid(m) => Error::scene(path, m),
         other => other,
     })
 }

@@ -107,13 +107,11 @@ fn parse_pattern(f: &Fields, name_key: &str) -> Result<Procedural> {
     if let Some(c) = f.get("colors") {
         p.colors = colors(&f.at("colors"), c)?;
     }
-    // Parameter errors name the field: "scale: expected ..." -> "objects[0].material.texture.scale: expected ...".
+    // Parameter errors name the field by its path.
     let dims = if space == Space::Object { 3 } else { 2 };
     let pattern = Pattern::new(p, dims, false).map_err(|e| match e {
-        Error::Invalid(m) => match m.split_once(": ") {
-            Some((field, rest)) => Error::scene(f.at(field), rest),
-            None => Error::scene(&f.path, m),
-        },
+        Error::Parameter { name, message } => Error::scene(f.at(name), message),
+        Error::Invalid(m) => Error::scene(&f.path, m),
         other => other,
     })?;
     Ok(Procedural { pattern, space })
