@@ -2,6 +2,7 @@
 batched lookups against the Rust benchmark's rate, noise against pyfastnoiselite in the same run, and two
 Python threads rendering at once against one. Run by bench/python.sh; prints one line per figure."""
 
+import os
 import statistics
 import subprocess
 import sys
@@ -41,11 +42,13 @@ def main():
     pixels = (rng.random((size, size, 4)) * 255).astype(np.uint8)
     tex = wrinkle.Texture(pixels)
 
-    # Per-call overhead: one lookup, whole Python call included.
+    # Per-call overhead: one lookup, whole Python call included (the loop's own cost too): the scalar
+    # `lookup`, and `sample` given one point (which makes arrays in and out).
     calls = 100_000
-    one = (0.5, 0.5)
-    best, med = best_and_median(lambda: [tex.sample(one) for _ in range(calls)], rounds)
+    best, med = best_and_median(lambda: [tex.lookup(0.5, 0.5) for _ in range(calls)], rounds)
     print(f"one_lookup_call_us median={med / calls * 1e6:.2f} best={best / calls * 1e6:.2f}")
+    best, med = best_and_median(lambda: [tex.sample((0.5, 0.5)) for _ in range(calls)], rounds)
+    print(f"one_point_sample_call_us median={med / calls * 1e6:.2f} best={best / calls * 1e6:.2f}")
 
     # Batched: 10^6 random trilinear lookups, all cores, against `wrinkle bench-texture` in the same run.
     uv, fp = lookups(1_000_000)
@@ -73,7 +76,19 @@ def main():
     except ImportError:
         print("pyfastnoiselite not installed: skipped")
 
-    # Two threads rendering at once against one render, default scene 1920x1080.
+    # Two threads rendering at once against one render, default scene 1920x1080: with all cores each render
+    # already fills the machine; with one worker thread a render (RAYON_NUM_THREADS=1, in a process of its
+    # own) leaves a core to the other thread only if the GIL is released.
+    for workers in ("all", "1"):
+        env = dict(os.environ)
+        if workers == "1":
+            env["RAYON_NUM_THREADS"] = "1"
+        out = subprocess.run([sys.executable, __file__, "--renders", str(rounds)], env=env, capture_output=True,
+                             text=True, check=True).stdout.strip()
+        print(f"render_1080p_ms workers={workers} {out}")
+
+
+def renders(rounds):
     scene = wrinkle.Scene.default()
     scene.render(1920, 1080)
 
@@ -84,10 +99,13 @@ def main():
         for t in ts:
             t.join()
 
-    best1, med1 = best_and_median(lambda: scene.render(1920, 1080), rounds)
-    best2, med2 = best_and_median(two, rounds)
-    print(f"render_1080p_ms one={med1 * 1e3:.1f} two_threads_at_once={med2 * 1e3:.1f} ratio={med2 / med1:.2f}")
+    _, med1 = best_and_median(lambda: scene.render(1920, 1080), rounds)
+    _, med2 = best_and_median(two, rounds)
+    print(f"one={med1 * 1e3:.1f} two_threads_at_once={med2 * 1e3:.1f} ratio={med2 / med1:.2f}")
 
 
 if __name__ == "__main__":
-    main()
+    if sys.argv[1] == "--renders":
+        renders(int(sys.argv[2]))
+    else:
+        main()

@@ -1,13 +1,14 @@
 //! Perlin noise, its fractal sums and the procedural patterns over arrays of points, and patterns baked to
 //! images.
 
-use crate::arrays::{flatten, output, shape, slice};
+use crate::arrays::{output, shape, slice};
 use crate::errors::{invalid, IntoPy};
 use crate::images::Options;
 use numpy::{PyArrayDyn, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, Ordering};
 use wrinkle::procedural::bake::bake_rows;
 use wrinkle::procedural::effects::{spline, Kind, Params, Pattern};
 use wrinkle::procedural::fbm::{Fractal, Octaves, Sum};
@@ -44,18 +45,30 @@ fn points<'a>(p: &'a PyReadonlyArrayDyn<'_, f32>) -> PyResult<(&'a [f32], usize)
     Ok((slice("points", p)?, dims))
 }
 
-/// `f` over every point, in parallel chunks, the GIL released.
-fn per_point<const N: usize>(
+/// `f` over every point, in parallel chunks, the GIL released, into `per` values a point (row by row, the
+/// array handed to NumPy as it is). Points with NaN or infinite coordinates are refused.
+fn per_point(
     py: Python<'_>,
     pts: &[f32],
     dims: usize,
-    f: impl Fn(&[f32], &mut [[f32; N]]) + Sync,
-) -> Vec<[f32; N]> {
-    let mut out = vec![[0.0; N]; pts.len() / dims];
+    per: usize,
+    f: impl Fn(&[f32], &mut [f32]) + Sync,
+) -> PyResult<Vec<f32>> {
+    let mut out = vec![0.0; pts.len() / dims * per];
+    let bad = AtomicBool::new(false);
     py.detach(|| {
-        out.par_chunks_mut(CHUNK).zip(pts.par_chunks(CHUNK * dims)).for_each(|(o, p)| f(p, o));
+        out.par_chunks_mut(CHUNK * per).zip(pts.par_chunks(CHUNK * dims)).for_each(|(o, p)| {
+            if p.iter().all(|v| v.is_finite()) {
+                f(p, o)
+            } else {
+                bad.store(true, Ordering::Relaxed)
+            }
+        })
     });
-    out
+    match bad.into_inner() {
+        true => Err(invalid("points: contains NaN or infinite values")),
+        false => Ok(out),
+    }
 }
 
 /// Deinterleaves a chunk of points into x, y, z (z = 0 for 2D points).
@@ -79,17 +92,15 @@ fn perlin<'py>(
 ) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
     let (pts, dims) = self::points(&points)?;
     let noise = Perlin::new(self::variant(variant)?, seed);
-    let out = per_point::<1>(py, pts, dims, |p, o| {
+    let out = per_point(py, pts, dims, 1, |p, o| {
         let [x, y, z] = axes(p, dims);
-        let mut v = vec![0.0; o.len()];
         if dims == 3 {
-            noise.noise3_many(&x, &y, &z, &mut v);
+            noise.noise3_many(&x, &y, &z, o);
         } else {
-            v.iter_mut().enumerate().for_each(|(i, v)| *v = noise.noise2(x[i], y[i]));
+            o.iter_mut().enumerate().for_each(|(i, v)| *v = noise.noise2(x[i], y[i]));
         }
-        o.iter_mut().zip(v).for_each(|(o, v)| o[0] = v);
-    });
-    Ok(output(py, &[out.len()], flatten(out)))
+    })?;
+    Ok(output(py, &[out.len()], out))
 }
 
 /// A fractal sum of Perlin noise over octaves (fBm: sum noise / f; turbulence: sum |noise| / f).
@@ -116,17 +127,15 @@ fn fractal<'py>(
     check.octaves = Octaves { count: octaves, lacunarity, gain };
     check.validate().py_err()?;
     let fractal = Fractal::new(Perlin::new(self::variant(variant)?, seed), sum, check.octaves);
-    let out = per_point::<1>(py, pts, dims, |p, o| {
+    let out = per_point(py, pts, dims, 1, |p, o| {
         let [x, y, z] = axes(p, dims);
-        let mut v = vec![0.0; o.len()];
         if dims == 3 {
-            fractal.eval3_many(&x, &y, &z, &mut v);
+            fractal.eval3_many(&x, &y, &z, o);
         } else {
-            v.iter_mut().enumerate().for_each(|(i, v)| *v = fractal.eval([x[i], y[i], 0.0], 2, 0.0));
+            o.iter_mut().enumerate().for_each(|(i, v)| *v = fractal.eval([x[i], y[i], 0.0], 2, 0.0));
         }
-        o.iter_mut().zip(v).for_each(|(o, v)| o[0] = v);
-    });
-    Ok(output(py, &[out.len()], flatten(out)))
+    })?;
+    Ok(output(py, &[out.len()], out))
 }
 
 /// The parameters of a pattern kind from keyword options (the scene's and `wrinkle texture`'s names).
@@ -175,16 +184,16 @@ fn pattern<'py>(
         return Err(invalid(format!("width: expected a finite non-negative number, got {width}")));
     }
     let pattern = Pattern::new(pattern_params(kind, params)?, dims, false).py_err()?;
-    let out = per_point::<4>(py, pts, dims, |p, o| {
-        for (o, q) in o.iter_mut().zip(p.chunks_exact(dims)) {
+    let out = per_point(py, pts, dims, 4, |p, o| {
+        for (o, q) in o.chunks_exact_mut(4).zip(p.chunks_exact(dims)) {
             let t = pattern.eval([q[0], q[1], if dims == 3 { q[2] } else { 0.0 }], width);
             let [r, g, b] = spline(&pattern.params.colors, t);
-            *o = [t, r, g, b];
+            o.copy_from_slice(&[t, r, g, b]);
         }
-    });
-    let n = out.len();
-    let t = out.iter().map(|v| v[0]).collect();
-    let rgb = out.iter().flat_map(|v| [v[1], v[2], v[3]]).collect();
+    })?;
+    let n = out.len() / 4;
+    let t = out.iter().step_by(4).copied().collect();
+    let rgb = out.chunks_exact(4).flat_map(|v| [v[1], v[2], v[3]]).collect();
     Ok((output(py, &[n], t), output(py, &[n, 3], rgb)))
 }
 

@@ -1,6 +1,6 @@
 //! A filtered colour texture over arrays of lookups: every filter of the course by name.
 
-use crate::arrays::{flatten, output, shape, slice};
+use crate::arrays::{output, shape, slice};
 use crate::errors::invalid;
 use glam::Vec4;
 use numpy::{PyArrayDyn, PyReadonlyArrayDyn};
@@ -14,6 +14,8 @@ use wrinkle::texture::{Filter, FilterOptions, FilteredTexture, Footprint, MipFil
 
 /// Lookups below this many run on the calling thread, the GIL held: a thread hand-off costs more.
 const PARALLEL_FROM: usize = 16384;
+/// Lookups per parallel task.
+const CHUNK: usize = 4096;
 
 /// Where the texels came from: kept to hand out the MIP pyramid in float.
 enum Source {
@@ -32,14 +34,6 @@ fn parse<T: Copy>(what: &str, name: &str, names: &[(&str, T)]) -> PyResult<T> {
         let all: Vec<&str> = names.iter().map(|(n, _)| *n).collect();
         invalid(format!("{what}: expected one of {}, got \"{name}\"", all.join(", ")))
     })
-}
-
-/// The values, refused when any is NaN or infinite (a lookup there has no meaning).
-fn finite<'a>(name: &str, values: &'a [f32]) -> PyResult<&'a [f32]> {
-    match values.iter().all(|v| v.is_finite()) {
-        true => Ok(values),
-        false => Err(invalid(format!("{name}: contains NaN or infinite values"))),
-    }
 }
 
 fn filter(name: &str) -> PyResult<Filter> {
@@ -126,11 +120,11 @@ impl Texture {
         max_aniso: Option<f32>,
     ) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
         let n = shape("uv", &uv, &[None, Some(2)])?[0];
-        let uv = finite("uv", slice("uv", &uv)?)?;
+        let uv = slice("uv", &uv)?;
         let fp = match &footprint {
             Some(f) => {
                 shape("footprint", f, &[Some(n), Some(4)])?;
-                Some(finite("footprint", slice("footprint", f)?)?)
+                Some(slice("footprint", f)?)
             }
             None => None,
         };
@@ -143,21 +137,35 @@ impl Texture {
             ),
         };
         let texture = texture.as_ref().unwrap_or(&self.texture);
-        let look = |i: usize| -> [f32; 4] {
-            let f = fp.map_or(Footprint { dudx: 0.0, dvdx: 0.0, dudy: 0.0, dvdy: 0.0 }, |f| Footprint {
-                dudx: f[4 * i],
-                dvdx: f[4 * i + 1],
-                dudy: f[4 * i + 2],
-                dvdy: f[4 * i + 3],
-            });
-            texture.lookup(uv[2 * i], uv[2 * i + 1], &f).to_array()
+        // Lookups `first..` into `out` (4 values each); false where a value is NaN or infinite.
+        let fill = |first: usize, out: &mut [f32]| -> bool {
+            let mut ok = true;
+            for (k, o) in out.chunks_exact_mut(4).enumerate() {
+                let i = first + k;
+                let (s, t) = (uv[2 * i], uv[2 * i + 1]);
+                let f = fp.map_or([0.0; 4], |f| [f[4 * i], f[4 * i + 1], f[4 * i + 2], f[4 * i + 3]]);
+                ok &= s.is_finite() && t.is_finite() && f.iter().all(|v| v.is_finite());
+                let footprint = Footprint { dudx: f[0], dvdx: f[1], dudy: f[2], dvdy: f[3] };
+                o.copy_from_slice(&texture.lookup(s, t, &footprint).to_array());
+            }
+            ok
         };
-        let values: Vec<[f32; 4]> = if n < PARALLEL_FROM {
-            (0..n).map(look).collect()
+        let mut values = vec![0.0f32; 4 * n];
+        let ok = if n < PARALLEL_FROM {
+            fill(0, &mut values)
         } else {
-            py.detach(|| (0..n).into_par_iter().with_min_len(4096).map(look).collect())
+            py.detach(|| {
+                values
+                    .par_chunks_mut(4 * CHUNK)
+                    .enumerate()
+                    .map(|(c, o)| fill(c * CHUNK, o))
+                    .reduce(|| true, |a, b| a && b)
+            })
         };
-        Ok(output(py, &[n, 4], flatten(values)))
+        if !ok {
+            return Err(invalid("uv or footprint: contains NaN or infinite values"));
+        }
+        Ok(output(py, &[n, 4], values))
     }
 
     /// One lookup at (s, t) with the footprint (ds/dx, dt/dx, ds/dy, dt/dy) (None: a point), as an RGBA

@@ -242,13 +242,13 @@ class Texture:
         `footprint` (N, 4) the pixel's derivatives (ds/dx, dt/dx, ds/dy, dt/dy) in the same units (None: a
         point, the full-resolution texture). Returns (N, 4) float32 linear RGBA. `filter` and `max_aniso`
         override the texture's own for this call."""
-        uv_a = floats(uv, "uv", ints=False)
+        uv_a = floats(uv, "uv", ints=False, finite=False)
         single = uv_a.ndim == 1
         if single:
             uv_a = uv_a[None, :]
         fp = None
         if footprint is not None:
-            fp = floats(footprint, "footprint", ints=False)
+            fp = floats(footprint, "footprint", ints=False, finite=False)
             if fp.ndim == 1:
                 fp = fp[None, :]
         out = self._texture.sample(uv_a, fp, filter, None if max_aniso is None else float(max_aniso))

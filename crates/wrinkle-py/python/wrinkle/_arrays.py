@@ -8,9 +8,10 @@ import numpy as np
 _SCALE = {np.dtype(np.uint8): 255.0, np.dtype(np.uint16): 65535.0}
 
 
-def floats(value, name: str, *, ints: bool = True) -> np.ndarray:
+def floats(value, name: str, *, ints: bool = True, finite: bool = True) -> np.ndarray:
     """`value` as a C-contiguous float32 array: floats as they are, uint8 and uint16 (when `ints`) over
-    their full scale (255 and 65535 become 1.0). NaN and infinities are refused."""
+    their full scale (255 and 65535 become 1.0). NaN and infinities are refused here when `finite` (else
+    the extension refuses them as it reads the values)."""
     a = np.asarray(value)
     if a.dtype in _SCALE and ints:
         return np.ascontiguousarray(a, dtype=np.float32) / np.float32(_SCALE[a.dtype])
@@ -18,7 +19,7 @@ def floats(value, name: str, *, ints: bool = True) -> np.ndarray:
         allowed = "a float, uint8 or uint16 array" if ints else "a float array"
         raise TypeError(f"{name}: expected {allowed}, got dtype {a.dtype}")
     a = np.ascontiguousarray(a, dtype=np.float32)
-    if a.size and not np.isfinite(a).all():
+    if finite and a.size and not np.isfinite(a).all():
         raise ValueError(f"{name}: contains NaN or infinite values")
     return a
 
@@ -37,7 +38,7 @@ def grey(value, name: str) -> np.ndarray:
 
 def points(value, name: str = "points") -> np.ndarray:
     """Points (N, 2) or (N, 3) as float32; a single point (2,) or (3,) becomes (1, D)."""
-    a = floats(value, name, ints=False)
+    a = floats(value, name, ints=False, finite=False)
     if a.ndim == 1 and a.shape[0] in (2, 3):
         a = a[None, :]
     if a.ndim != 2 or a.shape[1] not in (2, 3):
