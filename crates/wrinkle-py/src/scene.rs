@@ -2,7 +2,7 @@
 
 use crate::arrays::{flatten, output};
 use crate::errors::{invalid, to_py, IntoPy};
-use pyo3::exceptions::PyTypeError;
+use pyo3::exceptions::{PyRuntimeError, PyTypeError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use std::path::PathBuf;
@@ -174,6 +174,10 @@ fn render_interruptibly(
                 (rx, r)
             });
             rx = back;
+            if let Err(mpsc::RecvTimeoutError::Disconnected) = result {
+                // The render thread ended without a result: it panicked, which the scope's end reports.
+                return Err(PyRuntimeError::new_err("the render stopped without a result"));
+            }
             if let Ok(result) = result {
                 if let Some(e) = failure {
                     return Err(e);
@@ -206,8 +210,14 @@ fn render_interruptibly(
     })
 }
 
+/// Tables and arrays nested deeper than this are refused (a dictionary that holds itself would recurse forever).
+const MAX_DEPTH: usize = 32;
+
 /// A Python value as TOML: dicts are tables, lists and tuples arrays; `at` names it in errors.
 fn to_toml(v: &Bound<'_, PyAny>, at: &str) -> PyResult<toml::Value> {
+    if at.matches(['.', '[']).count() > MAX_DEPTH {
+        return Err(invalid(format!("{at}: tables nested more than {MAX_DEPTH} deep")));
+    }
     let here = |k: &str| if at.is_empty() { k.to_string() } else { format!("{at}.{k}") };
     if v.is_instance_of::<PyBool>() {
         return Ok(toml::Value::Boolean(v.extract()?));

@@ -89,6 +89,10 @@ def test_errors_become_python_exceptions(tmp_path):
         wrinkle.Scene.from_dict({"camera": {"eye": object()}})
     with pytest.raises(FileNotFoundError):
         wrinkle.Scene.load(tmp_path / "missing.toml")
+    loop = {}
+    loop["camera"] = loop
+    with pytest.raises(ValueError, match="nested"):
+        wrinkle.Scene.from_dict(loop)
     scene = wrinkle.Scene.from_toml(SPHERE)
     with pytest.raises(ValueError, match="spp"):
         scene.render(16, 16, spp=3)

@@ -300,7 +300,7 @@ fn wrap(i: usize, k: isize, n: usize) -> usize {
     (i as isize + k).rem_euclid(n as isize) as usize
 }
 
-/// `Error::Invalid` naming `name` unless `lo <= value <= hi` (NaN is never in range).
+/// `Error::Parameter` naming `name` unless `lo <= value <= hi` (NaN is never in range).
 fn check<T: PartialOrd + Display>(name: &'static str, value: T, lo: T, hi: T) -> Result<()> {
     if lo <= value && value <= hi {
         Ok(())

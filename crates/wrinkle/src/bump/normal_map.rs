@@ -88,9 +88,7 @@ impl NormalMap {
             *z = inv;
         }
     }
-}
 
-impl NormalMap {
     /// The unit normal of every pixel of a whole height image held in memory (`size` = (width, height),
     /// heights in [0, 1], row 0 at the top), interleaved x, y, z.
     pub fn normals_image(&self, heights: &[f32], size: (usize, usize), edges: Edges) -> Vec<[f32; 3]> {
