@@ -4,7 +4,6 @@ shade. Give an image path, or it embosses the repository's tiles texture."""
 import sys
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
 
 import wrinkle
@@ -14,6 +13,6 @@ photo = wrinkle.read_image(path)[..., :3]  # (H, W, 3) float32 in [0, 1], as sto
 shade = wrinkle.emboss(photo, azimuth=135, elevation=30, width=4)  # colour becomes luma
 relief = wrinkle.emboss(photo, azimuth=135, elevation=30, width=4, texture=(photo * 255).round().astype(np.uint8))
 
-plt.imsave("embossed.png", shade, cmap="gray", vmin=0, vmax=1)
-plt.imsave("embossed_colour.png", relief)
+wrinkle.write_image("embossed.png", shade)  # grey data: stored as computed, no sRGB curve
+wrinkle.write_image("embossed_colour.png", relief)  # uint8: stored as is
 print(f"embossed {path.name} ({photo.shape[1]}x{photo.shape[0]}): embossed.png, embossed_colour.png")

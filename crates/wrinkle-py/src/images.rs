@@ -24,6 +24,9 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(read_image, m)?)?;
     m.add_function(wrap_pyfunction!(read_exr, m)?)?;
     m.add_function(wrap_pyfunction!(encode_srgb8, m)?)?;
+    m.add_function(wrap_pyfunction!(write_png8, m)?)?;
+    m.add_function(wrap_pyfunction!(write_png16, m)?)?;
+    m.add_function(wrap_pyfunction!(write_exr, m)?)?;
     Ok(())
 }
 
@@ -234,6 +237,46 @@ fn read_exr<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyDict>>
         out.set_item(name, output(py, &[h, w], values))?;
     }
     Ok(out)
+}
+
+/// The (height, width, channels) of an image array (H, W) or (H, W, C).
+fn image_shape(a: &PyReadonlyArrayDyn<'_, impl numpy::Element>) -> PyResult<(usize, usize, usize)> {
+    match *a.shape() {
+        [h, w] if h > 0 && w > 0 => Ok((h, w, 1)),
+        [h, w, c] if h > 0 && w > 0 => Ok((h, w, c)),
+        ref s => Err(invalid(format!("image: expected shape (H, W) or (H, W, C), got {s:?}"))),
+    }
+}
+
+/// Writes 8-bit samples as stored to a PNG (1 to 4 channels), whole or not at all.
+#[pyfunction]
+fn write_png8(py: Python<'_>, path: PathBuf, samples: PyReadonlyArrayDyn<'_, u8>) -> PyResult<()> {
+    let (h, w, c) = image_shape(&samples)?;
+    let data = slice("image", &samples)?;
+    py.detach(|| io::write_png8(&path, w, h, c, data)).py_err()
+}
+
+/// Writes 16-bit samples as stored to a PNG (1 to 4 channels), whole or not at all.
+#[pyfunction]
+fn write_png16(py: Python<'_>, path: PathBuf, samples: PyReadonlyArrayDyn<'_, u16>) -> PyResult<()> {
+    let (h, w, c) = image_shape(&samples)?;
+    let data = slice("image", &samples)?;
+    py.detach(|| io::write_png16(&path, w, h, c, data)).py_err()
+}
+
+/// Writes named float32 channels, each (H, W), to a linear OpenEXR file (lossless).
+#[pyfunction]
+fn write_exr(py: Python<'_>, path: PathBuf, channels: Vec<(String, PyReadonlyArrayDyn<'_, f32>)>) -> PyResult<()> {
+    let first = channels.first().ok_or_else(|| invalid("channels: give at least one"))?;
+    let s = shape("channels", &first.1, &[None, None])?;
+    let data = channels
+        .iter()
+        .map(|(name, a)| {
+            shape(name, a, &[Some(s[0]), Some(s[1])])?;
+            Ok((name.as_str(), slice(name, a)?))
+        })
+        .collect::<PyResult<Vec<(&str, &[f32])>>>()?;
+    py.detach(|| io::write_exr(&path, s[1], s[0], &data)).py_err()
 }
 
 /// Linear values to 8-bit sRGB codes, as the renderer encodes PNG frames (any shape).

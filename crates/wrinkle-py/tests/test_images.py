@@ -148,3 +148,40 @@ def test_bad_inputs_raise_clear_exceptions():
         wrinkle.emboss(np.zeros((4, 4), np.float32), elevation=120)
     with pytest.raises(FileNotFoundError):
         wrinkle.read_image("/nonexistent/image.png")
+
+
+def test_written_images_read_back(tmp_path):
+    rng = np.random.default_rng(9)
+    rgb8 = (rng.random((20, 30, 3)) * 255).astype(np.uint8)
+    wrinkle.write_image(tmp_path / "a.png", rgb8)
+    assert np.array_equal(np.rint(wrinkle.read_image(tmp_path / "a.png")[..., :3] * 255), rgb8)
+    grey16 = (rng.random((20, 30)) * 65535).astype(np.uint16)
+    wrinkle.write_image(tmp_path / "g.png", grey16)
+    assert np.array_equal(np.rint(wrinkle.read_image(tmp_path / "g.png")[..., 0] * 65535), grey16)
+    heights = rng.random((20, 30)).astype(np.float32)
+    wrinkle.write_image(tmp_path / "h.png", heights, bits=16)
+    assert np.abs(wrinkle.read_image(tmp_path / "h.png")[..., 0] - heights).max() <= 0.5 / 65535 + 1e-7
+    rgba = rng.random((20, 30, 4)).astype(np.float32)
+    rgba[0, 0, 0] = np.nan
+    wrinkle.write_image(tmp_path / "f.exr", rgba)
+    back = wrinkle.read_exr(tmp_path / "f.exr")
+    assert np.array_equal(np.stack([back[c] for c in "RGBA"], axis=-1), rgba, equal_nan=True)
+
+
+def test_linear_colour_is_written_as_the_renderer_writes_it(cli, tmp_path):
+    cli("render", "-o", tmp_path / "cli.png", "--width", 64, "--height", 36)
+    frame = wrinkle.Scene.default().render(64, 36)
+    wrinkle.write_image(tmp_path / "py.png", frame["color"])
+    assert np.array_equal(wrinkle.read_image(tmp_path / "py.png"), wrinkle.read_image(tmp_path / "cli.png"))
+
+
+def test_bad_images_are_not_written(tmp_path):
+    with pytest.raises(ValueError, match="png or .exr"):
+        wrinkle.write_image(tmp_path / "a.jpg", np.zeros((4, 4), np.uint8))
+    with pytest.raises(ValueError, match="channels"):
+        wrinkle.write_image(tmp_path / "a.png", np.zeros((4, 4, 5), np.uint8))
+    with pytest.raises(ValueError, match="bits"):
+        wrinkle.write_image(tmp_path / "a.png", np.zeros((4, 4), np.float32), bits=12)
+    with pytest.raises(OSError):
+        wrinkle.write_image(tmp_path / "missing" / "a.png", np.zeros((4, 4), np.uint8))
+    assert not (tmp_path / "a.png").exists()

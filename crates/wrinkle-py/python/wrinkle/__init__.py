@@ -44,6 +44,7 @@ __all__ = [
     "normal_map",
     "read_exr",
     "read_image",
+    "write_image",
     "to_srgb8",
 ]
 
@@ -332,6 +333,53 @@ def read_image(path: PathLike, srgb: bool = False) -> np.ndarray:
     """An image file (PNG 8/16-bit, JPEG, BMP, TGA, TIFF, EXR, HDR) as (H, W, 4) float32 RGBA: integer
     samples over their full scale, decoded from sRGB to linear when `srgb`."""
     return _wrinkle.read_image(Path(path), bool(srgb))
+
+
+def write_image(path: PathLike, image, bits: Optional[int] = None, srgb: Optional[bool] = None) -> None:
+    """Writes an image (H, W) or (H, W, C) with 1 to 4 channels (grey, grey + alpha, RGB, RGBA), whole or
+    not at all (a temporary file renamed into place), by the path's extension:
+
+    - .png: uint8 and uint16 arrays are written as stored (8 and 16 bits); float arrays are taken as linear,
+      clamped to [0, 1] and written with `bits` (8 by default, or 16), sRGB-encoded when `srgb` (by default
+      for RGB and RGBA, not for grey data such as heights; alpha is never encoded). 8-bit sRGB is exactly
+      what `wrinkle render` writes.
+    - .exr: float32, linear, lossless (NaN kept); channels Y, Y A, R G B or R G B A."""
+    p = Path(path)
+    ext = p.suffix.lower()
+    a = np.asarray(image)
+    if a.ndim == 2:
+        a = a[..., None]
+    if a.ndim != 3 or not 1 <= a.shape[2] <= 4:
+        raise ValueError(f"image: expected shape (H, W) or (H, W, C) with 1 to 4 channels, got {np.shape(image)}")
+    channels = a.shape[2]
+    if ext == ".exr":
+        f = floats(a, "image", finite=False)
+        names = {1: ["Y"], 2: ["Y", "A"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}[channels]
+        _wrinkle.write_exr(p, [(n, np.ascontiguousarray(f[..., i])) for i, n in enumerate(names)])
+        return
+    if ext != ".png":
+        raise ValueError(f"path: expected a .png or .exr file name, got {p.name!r}")
+    if bits not in (None, 8, 16):
+        raise ValueError(f"bits: expected 8 or 16, got {bits!r}")
+    if a.dtype == np.uint8 and bits in (None, 8):
+        _wrinkle.write_png8(p, np.ascontiguousarray(a))
+        return
+    if a.dtype == np.uint16 and bits in (None, 16):
+        _wrinkle.write_png16(p, np.ascontiguousarray(a))
+        return
+    f = np.clip(floats(a, "image"), 0.0, 1.0)
+    colour = 3 if channels >= 3 else 0
+    encode = colour > 0 if srgb is None else bool(srgb) and colour > 0
+    if (bits or 8) == 8:
+        out = np.rint(f * 255).astype(np.uint8)
+        if encode:
+            out[..., :colour] = _wrinkle.encode_srgb8(np.ascontiguousarray(f[..., :colour]))
+        _wrinkle.write_png8(p, np.ascontiguousarray(out))
+    else:
+        if encode:
+            c = f[..., :colour]
+            f[..., :colour] = np.where(c <= 0.0031308, 12.92 * c, 1.055 * np.power(c, 1 / 2.4) - 0.055)
+        _wrinkle.write_png16(p, np.ascontiguousarray(np.rint(f * 65535).astype(np.uint16)))
 
 
 def read_exr(path: PathLike) -> dict:

@@ -217,16 +217,39 @@ pub fn write_hdr(path: &Path, width: usize, height: usize, rgb: &[f32]) -> Resul
     })
 }
 
+/// The PNG colour type of 1 (grey), 2 (grey and alpha), 3 (RGB) or 4 (RGBA) channels.
+fn png_colour(path: &Path, channels: usize) -> Result<png::ColorType> {
+    use png::ColorType::*;
+    [Grayscale, GrayscaleAlpha, Rgb, Rgba]
+        .get(channels.wrapping_sub(1))
+        .copied()
+        .ok_or_else(|| invalid(path, format!("a PNG holds 1 to 4 channels, not {channels}")))
+}
+
+/// Writes an 8-bit PNG of 1 to 4 channels (grey, grey and alpha, RGB, RGBA) from `samples` as stored, row 0 at
+/// the top.
+pub fn write_png8(path: &Path, width: usize, height: usize, channels: usize, samples: &[u8]) -> Result<()> {
+    let colour = png_colour(path, channels)?;
+    check_buffer(path, width, height, channels, samples.len())?;
+    write_png(path, width, height, colour, png::BitDepth::Eight, samples)
+}
+
+/// Writes a 16-bit PNG of 1 to 4 channels from `samples` as stored, row 0 at the top.
+pub fn write_png16(path: &Path, width: usize, height: usize, channels: usize, samples: &[u16]) -> Result<()> {
+    let colour = png_colour(path, channels)?;
+    check_buffer(path, width, height, channels, samples.len())?;
+    let bytes: Vec<u8> = samples.iter().flat_map(|v| v.to_be_bytes()).collect();
+    write_png(path, width, height, colour, png::BitDepth::Sixteen, &bytes)
+}
+
 /// Writes an 8-bit RGB PNG from `rgb`, 3 bytes per pixel, row 0 at the top.
 pub fn write_png_rgb8(path: &Path, width: usize, height: usize, rgb: &[u8]) -> Result<()> {
-    check_buffer(path, width, height, 3, rgb.len())?;
-    write_png(path, width, height, png::ColorType::Rgb, png::BitDepth::Eight, rgb)
+    write_png8(path, width, height, 3, rgb)
 }
 
 /// Writes an 8-bit RGBA PNG from `rgba`, 4 bytes per pixel, row 0 at the top.
 pub fn write_png_rgba8(path: &Path, width: usize, height: usize, rgba: &[u8]) -> Result<()> {
-    check_buffer(path, width, height, 4, rgba.len())?;
-    write_png(path, width, height, png::ColorType::Rgba, png::BitDepth::Eight, rgba)
+    write_png8(path, width, height, 4, rgba)
 }
 
 /// Writes a 16-bit RGB PNG from `rgb`, 3 values per pixel: clamped to [0, 1], scaled by 65535, rounded.
