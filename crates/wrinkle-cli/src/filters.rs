@@ -175,7 +175,7 @@ pub fn run(args: &FiltersArgs) -> Result<()> {
         return Err(Error::Invalid("the scene has no colour texture to filter".into()));
     }
 
-    let bar = sheet::progress(filters.len() + 1);
+    let bar = sheet::progress("filters", filters.len() + 1);
     bar.set_message("ground truth");
     scene.set_texture_filter(Filter::Reference);
     let truth = render(&scene, &RenderOptions { spp: 16, ..options.clone() })?.color;
@@ -192,7 +192,7 @@ pub fn run(args: &FiltersArgs) -> Result<()> {
         panels.push(Panel { name: name.clone(), rmse: rmse(&pixels, &truth), pixels, ms });
         bar.inc(1);
     }
-    bar.finish_and_clear();
+    bar.finish();
     panels.push(Panel { name: "ground truth".into(), pixels: truth, ms: f64::NAN, rmse: 0.0 });
 
     let labelled: Vec<sheet::Panel> = panels

@@ -74,7 +74,7 @@ pub fn run(args: &HeightmapArgs) -> Result<()> {
     let convention = args.convention.convention();
     let (mut p, mut q) = (Vec::with_capacity(w * h), Vec::with_capacity(w * h));
     let mut rgb = vec![0.0; 3 * w];
-    let bar = row_bar(w, h);
+    let bar = row_bar("heightmap", w, h);
     for y in 0..h {
         normals.read_rgb(&mut rgb)?;
         for px in rgb.chunks_exact(3) {
@@ -109,7 +109,7 @@ pub fn run(args: &HeightmapArgs) -> Result<()> {
         }
         Ok(())
     })?;
-    bar.finish_and_clear();
+    bar.finish();
     if args.stream.stats {
         eprintln!("heightmap: {w}x{h}, total {:.1} ms", start.elapsed().as_secs_f64() * 1e3);
     }

@@ -1,8 +1,8 @@
 //! Options and helpers shared by the image commands (emboss, normalmap, heightmap): PNG compression,
 //! the size limit, resampling filters and the progress bar over rows.
 
+use crate::progress::Progress;
 use clap::{Args, ValueEnum};
-use indicatif::{ProgressBar, ProgressStyle};
 use std::path::Path;
 use std::time::Instant;
 use wrinkle::image::resample::Filter;
@@ -72,15 +72,11 @@ impl StreamArgs {
 }
 
 /// A bar over the rows of a large image (hidden for small ones and when stderr is not a terminal).
-pub fn row_bar(width: usize, height: usize) -> ProgressBar {
+pub fn row_bar(what: &str, width: usize, height: usize) -> Progress {
     if width * height < LONG_IMAGE_PIXELS {
-        return ProgressBar::hidden();
+        return Progress::hidden();
     }
-    let bar = ProgressBar::new(height as u64);
-    bar.set_style(
-        ProgressStyle::with_template("{bar:40} {pos}/{len} rows  {elapsed} (eta {eta})").expect("valid template"),
-    );
-    bar
+    Progress::new(what, height as u64, "rows", "{pos}/{len} rows")
 }
 
 /// Writes `output` from the rows that `filter` streams into its sink (reporting rows done), with a bar over
@@ -96,13 +92,13 @@ pub fn write_filtered(
     start: Instant,
     filter: impl FnOnce(&mut dyn FnMut(&[u8]) -> Result<()>, &dyn Fn(usize)) -> Result<StripStats>,
 ) -> Result<()> {
-    let bar = row_bar(w, h);
+    let bar = row_bar(what, w, h);
     let mut kernel_time = Default::default();
     write_rows(output, w, h, rows, compression, |sink| {
         kernel_time = filter(sink, &|done| bar.set_position(done as u64))?.kernel;
         Ok(())
     })?;
-    bar.finish_and_clear();
+    bar.finish();
     if stream.stats {
         print_stats(what, w, h, start.elapsed(), kernel_time);
     }

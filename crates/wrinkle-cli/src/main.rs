@@ -15,6 +15,7 @@ mod mappings;
 mod mipmap;
 mod normalmap;
 mod output;
+mod progress;
 mod render;
 mod sheet;
 mod tessellate;

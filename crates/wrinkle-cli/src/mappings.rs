@@ -105,7 +105,7 @@ pub fn run(args: &MappingsArgs) -> Result<()> {
         Shape::Mesh(vec![MeshPart { mesh: Arc::new(unit_teapot()?), material: 1, two_sided: true }]);
     let texture = Arc::new(FilteredTexture::new(&lettered_checkerboard(), TextureOptions::default()));
 
-    let bar = sheet::progress(MAPPINGS.len());
+    let bar = sheet::progress("mappings", MAPPINGS.len());
     let mut panels = Vec::new();
     for (label, text) in MAPPINGS {
         bar.set_message(label);
@@ -116,7 +116,7 @@ pub fn run(args: &MappingsArgs) -> Result<()> {
         panels.push(Panel { label: label.to_string(), pixels: render(&scene, &options)?.color });
         bar.inc(1);
     }
-    bar.finish_and_clear();
+    bar.finish();
     let sheet = sheet::compose(&panels, args.width, args.height, args.columns);
     io::write_png_rgb8(&args.output, sheet.width, sheet.height, &sheet.pixels)
 }

@@ -1,6 +1,7 @@
 //! Writing frames: PNG (8-bit sRGB) or EXR (linear float) by the output's extension, and the AOVs beside it.
 
 use rayon::prelude::*;
+use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use wrinkle::image::output::OutputSet;
 use wrinkle::image::{color::SrgbEncoder, io};
@@ -13,7 +14,35 @@ pub enum Format {
     Exr,
 }
 
+/// `-o -`: the frame goes to the standard output, as PNG.
+pub fn is_stdout(path: &Path) -> bool {
+    path == Path::new("-")
+}
+
+/// Refuses `-o -` when the standard output is a terminal (a PNG there is noise), before any work.
+pub fn check_stdout() -> Result<()> {
+    if std::io::stdout().is_terminal() {
+        return Err(Error::Invalid("-o -: the standard output is a terminal; send it to a file or a pipe".into()));
+    }
+    Ok(())
+}
+
+/// `-o -`: the frame as PNG (RGBA with a transparent background) on the standard output.
+pub fn write_stdout(frame: &Frame) -> Result<()> {
+    let name = Path::new("the standard output");
+    let size = (frame.width, frame.height);
+    let mut out = std::io::stdout().lock();
+    match &frame.alpha {
+        None => io::encode_png8(&mut out, name, size, 3, &encode_srgb8(frame))?,
+        Some(alpha) => io::encode_png8(&mut out, name, size, 4, &encode_srgba8(frame, alpha))?,
+    }
+    out.flush().map_err(|e| Error::write(name, e))
+}
+
 pub fn format_of(path: &Path) -> Result<Format> {
+    if is_stdout(path) {
+        return Ok(Format::Png);
+    }
     require_extension(path, &["png", "exr"])?;
     let exr = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"));
     Ok(if exr { Format::Exr } else { Format::Png })

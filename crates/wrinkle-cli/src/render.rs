@@ -1,9 +1,9 @@
 //! `wrinkle render`: one frame, or a turntable animation of numbered frames.
 
-use crate::output::{format_of, stage_outputs};
+use crate::output::{check_stdout, format_of, is_stdout, stage_outputs, write_stdout};
+use crate::progress::Progress;
 use clap::builder::PossibleValuesParser;
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use wrinkle::bump::function::filter_choices;
 use wrinkle::image::output::OutputSet;
@@ -19,7 +19,7 @@ use wrinkle::{render_with_progress, Error, RenderOptions, Result, Scene};
 pub struct RenderArgs {
     /// Scene file (TOML); the embedded cover scene when omitted.
     pub scene: Option<PathBuf>,
-    /// Output image: .png (8-bit sRGB) or .exr (linear float).
+    /// Output image: .png (8-bit sRGB) or .exr (linear float); - writes PNG to the standard output
     #[arg(short, long, default_value = "wrinkle.png")]
     pub output: PathBuf,
     #[command(flatten)]
@@ -144,6 +144,13 @@ fn numbered(out: &Path, k: usize) -> PathBuf {
 
 pub fn run(args: &RenderArgs) -> Result<()> {
     format_of(&args.output)?;
+    let to_stdout = is_stdout(&args.output);
+    if to_stdout {
+        if !args.aov.is_empty() || args.frames > 1 {
+            return Err(Error::Invalid("-o -: the standard output holds one PNG: no --aov, no --frames".into()));
+        }
+        check_stdout()?;
+    }
     let mut options = args.frame.options()?;
     options.aovs = parse_aovs(&args.aov)?;
     options.transparent = args.background == "transparent";
@@ -162,13 +169,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         );
     }
     let animated = args.turntable && args.frames > 1;
-    let bar = animated.then(|| {
-        let bar = ProgressBar::new(args.frames as u64);
-        bar.set_style(
-            ProgressStyle::with_template("{bar:40} {pos}/{len} frames  {elapsed} (eta {eta})").expect("valid template"),
-        );
-        bar
-    });
+    let bar = animated.then(|| Progress::new("render", args.frames as u64, "frames", "{pos}/{len} frames"));
     // An animation's frames are placed together at the end: a failed frame leaves none of them.
     let mut set = OutputSet::new();
     for k in 0..args.frames {
@@ -177,14 +178,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         // animation has one over its frames.
         let long = !animated
             && (options.width * options.height * options.spp >= LONG_FRAME_SAMPLES || !scene.volumes.is_empty());
-        let frame_bar = long.then(|| {
-            let bar = ProgressBar::new(0);
-            bar.set_style(
-                ProgressStyle::with_template("{bar:40} {percent}% of the frame  {elapsed} (eta {eta})")
-                    .expect("valid template"),
-            );
-            bar
-        });
+        let frame_bar = long.then(|| Progress::new("render", 0, "bands", "{percent}% of the frame"));
         let frame = render_with_progress(&scene, &options, &|done, total| {
             if let Some(b) = &frame_bar {
                 b.set_length(total as u64);
@@ -192,11 +186,15 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             }
         })?;
         if let Some(b) = frame_bar {
-            b.finish_and_clear();
+            b.finish();
         }
         let out = if animated { numbered(&args.output, k) } else { args.output.clone() };
         let t = std::time::Instant::now();
-        stage_outputs(&mut set, &out, &frame)?;
+        if to_stdout {
+            write_stdout(&frame)?;
+        } else {
+            stage_outputs(&mut set, &out, &frame)?;
+        }
         if args.stats {
             let s = &frame.stats;
             eprintln!(

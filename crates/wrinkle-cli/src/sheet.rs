@@ -1,7 +1,7 @@
 //! Contact sheets: rendered panels in a grid, each under a label in font8x8 letters, as 8-bit sRGB. What
 //! `wrinkle filters` and `wrinkle mappings` draw.
 
-use indicatif::{ProgressBar, ProgressStyle};
+use crate::progress::Progress;
 use wrinkle::bump::generators::glyph;
 use wrinkle::image::color::SrgbEncoder;
 use wrinkle::image::Image;
@@ -21,11 +21,9 @@ pub fn check_columns(columns: usize) -> Result<()> {
     Ok(())
 }
 
-/// The bar over a sheet's `panels`, its message naming the panel being rendered.
-pub fn progress(panels: usize) -> ProgressBar {
-    let bar = ProgressBar::new(panels as u64);
-    bar.set_style(ProgressStyle::with_template("{bar:40} {pos}/{len} panels  {msg}").expect("valid template"));
-    bar
+/// Progress over a sheet's `panels` for the command `what`, its message naming the panel being rendered.
+pub fn progress(what: &str, panels: usize) -> Progress {
+    Progress::new(what, panels as u64, "panels", "{pos}/{len} panels  {msg}")
 }
 
 /// Height of the label strip above each panel, and the gap between panels.

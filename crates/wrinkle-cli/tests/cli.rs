@@ -848,3 +848,50 @@ fn transparency_orders_crossing_panes() {
     let run = wrinkle(&["render", &scene, "-o", &bad.out("x.png"), "--transparency", "painter"]);
     assert_one_error(&run, 2, &["--transparency", "sorted", "exact"], &bad);
 }
+
+/// Where stderr is not a terminal, a long render logs its progress as lines (here one per band:
+/// WRINKLE_PROGRESS_SECONDS=0), rising to 100% and closed by a "done" line; a short one writes none.
+#[test]
+fn progress_is_logged_as_lines_where_stderr_is_not_a_terminal() {
+    let s = Scratch::new("progress_lines");
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/fractal_egg.toml");
+    let out = s.out("egg.png");
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_wrinkle"))
+        .args(["render", &path_arg(&scene), "-o", &out, "--width", "128", "--height", "256"])
+        .env("WRINKLE_PROGRESS_SECONDS", "0")
+        .output()
+        .unwrap();
+    assert!(run.status.success());
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    let lines: Vec<&str> = stderr.lines().collect();
+    assert!(lines.len() >= 3, "{stderr}");
+    assert!(lines.iter().all(|l| l.starts_with("render: ")), "{stderr}");
+    let percents: Vec<u32> =
+        lines.iter().filter_map(|l| l.strip_prefix("render: ")?.split('%').next()?.parse().ok()).collect();
+    assert!(percents.windows(2).all(|p| p[0] <= p[1]) && percents.last() == Some(&100), "{stderr}");
+    assert!(lines.last().unwrap().starts_with("render: done, "), "{stderr}");
+    // The same render is far shorter than the default five seconds between lines: nothing is written.
+    let quiet = wrinkle(&["render", &path_arg(&scene), "-o", &out, "--width", "128", "--height", "256"]);
+    assert_ok(&quiet);
+    assert_eq!(quiet.stderr, "");
+}
+
+/// `-o -` writes the PNG that `-o FILE` writes to the standard output, and refuses what one PNG cannot hold.
+#[test]
+fn a_frame_goes_to_the_standard_output() {
+    let s = Scratch::new("stdout_png");
+    let file = s.out("cover.png");
+    assert_ok(&wrinkle(&["render", "-o", &file, "--width", "64", "--height", "36"]));
+    let piped = std::process::Command::new(env!("CARGO_BIN_EXE_wrinkle"))
+        .args(["render", "-o", "-", "--width", "64", "--height", "36"])
+        .output()
+        .unwrap();
+    assert!(piped.status.success(), "{}", String::from_utf8_lossy(&piped.stderr));
+    assert_eq!(piped.stdout, fs::read(&file).unwrap());
+    for extra in [&["--aov", "depth"][..], &["--frames", "2", "--turntable"][..]] {
+        let run = wrinkle(&[&["render", "-o", "-", "--width", "8", "--height", "8"][..], extra].concat());
+        assert_eq!(run.code, 2, "{run:#?}");
+        assert!(run.stderr.starts_with("error: -o -: the standard output holds one PNG"), "{run:#?}");
+        assert!(run.stdout.is_empty());
+    }
+}

@@ -4,7 +4,7 @@
 //! `output::write_atomic`: whole or not at all.
 
 use std::fs::{self, File};
-use std::io::{self, BufReader, Cursor};
+use std::io::{self, BufReader, Cursor, Write};
 use std::path::Path;
 
 use ::image::{ColorType, DynamicImage, ImageDecoder, ImageError, ImageFormat, ImageReader};
@@ -234,6 +234,20 @@ pub fn write_png8(path: &Path, width: usize, height: usize, channels: usize, sam
     write_png(path, width, height, colour, png::BitDepth::Eight, samples)
 }
 
+/// Encodes an 8-bit PNG of 1 to 4 channels into `out` (a pipe, the standard output), as `write_png8` writes
+/// it to a file; errors name `name`.
+pub fn encode_png8(
+    out: &mut dyn Write,
+    name: &Path,
+    (width, height): (usize, usize),
+    channels: usize,
+    samples: &[u8],
+) -> Result<()> {
+    let colour = png_colour(name, channels)?;
+    check_buffer(name, width, height, channels, samples.len())?;
+    encode_png(out, name, width, height, colour, png::BitDepth::Eight, samples)
+}
+
 /// Writes a 16-bit PNG of 1 to 4 channels from `samples` as stored, row 0 at the top.
 pub fn write_png16(path: &Path, width: usize, height: usize, channels: usize, samples: &[u16]) -> Result<()> {
     let colour = png_colour(path, channels)?;
@@ -459,18 +473,28 @@ fn write_png(
     depth: png::BitDepth,
     data: &[u8],
 ) -> Result<()> {
+    write_atomic(path, |out| encode_png(out, path, width, height, color, depth, data))
+}
+
+fn encode_png(
+    out: &mut dyn Write,
+    path: &Path,
+    width: usize,
+    height: usize,
+    color: png::ColorType,
+    depth: png::BitDepth,
+    data: &[u8],
+) -> Result<()> {
     let png_error = |e: png::EncodingError| Error::write(path, e);
-    write_atomic(path, |out| {
-        // Sizes were checked against the side limit (at most 2^20), so they fit in u32.
-        let mut encoder = png::Encoder::new(out, width as u32, height as u32);
-        encoder.set_color(color);
-        encoder.set_depth(depth);
-        encoder.set_compression(png::Compression::Fast);
-        encoder.set_filter(PNG_FILTER);
-        let mut writer = encoder.write_header().map_err(png_error)?;
-        writer.write_image_data(data).map_err(png_error)?;
-        writer.finish().map_err(png_error)
-    })
+    // Sizes were checked against the side limit (at most 2^20), so they fit in u32.
+    let mut encoder = png::Encoder::new(out, width as u32, height as u32);
+    encoder.set_color(color);
+    encoder.set_depth(depth);
+    encoder.set_compression(png::Compression::Fast);
+    encoder.set_filter(PNG_FILTER);
+    let mut writer = encoder.write_header().map_err(png_error)?;
+    writer.write_image_data(data).map_err(png_error)?;
+    writer.finish().map_err(png_error)
 }
 
 pub(crate) fn open_message(e: &io::Error) -> String {
