@@ -10,7 +10,7 @@ use wrinkle::image::output::OutputSet;
 use wrinkle::render::{Aovs, Transparency};
 use wrinkle::texture::reconstruct::Kernel;
 use wrinkle::texture::Filter;
-use wrinkle::{render_with_progress, Error, RenderOptions, Result, Scene};
+use wrinkle::{render_with_progress, Crop, Error, RenderOptions, Result, Scene};
 
 #[derive(Args, Debug)]
 #[command(
@@ -75,6 +75,10 @@ pub struct FrameArgs {
     /// fragments by depth, an A-buffer: right where they cross).
     #[arg(long, default_value = "sorted", value_parser = ["sorted", "exact"])]
     pub transparency: String,
+    /// Render only pixels X0..X1, Y0..Y1 of the frame (row 0 at the top), exactly as the whole frame
+    /// renders them, into an image of that size: a frame too large to hold is rendered in parts.
+    #[arg(long, value_name = "X0,Y0,X1,Y1")]
+    pub crop: Option<String>,
 }
 
 impl FrameArgs {
@@ -90,6 +94,7 @@ impl FrameArgs {
                 "exact" => Transparency::Exact,
                 _ => Transparency::Sorted,
             },
+            crop: self.crop.as_deref().map(parse_crop).transpose()?,
             ..RenderOptions::default()
         };
         options.validate()?;
@@ -218,6 +223,19 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         b.finish();
     }
     Ok(())
+}
+
+/// `--crop X0,Y0,X1,Y1`: four whole numbers (the range is checked with the frame's size).
+fn parse_crop(text: &str) -> Result<Crop> {
+    let numbers: Vec<usize> = text
+        .split(',')
+        .map(|n| n.trim().parse())
+        .collect::<std::result::Result<_, _>>()
+        .map_err(|_| Error::parameter("crop", format!("must be four whole numbers X0,Y0,X1,Y1, got \"{text}\"")))?;
+    match numbers[..] {
+        [x0, y0, x1, y1] => Ok(Crop { x0, y0, x1, y1 }),
+        _ => Err(Error::parameter("crop", format!("must be four whole numbers X0,Y0,X1,Y1, got \"{text}\""))),
+    }
 }
 
 /// A `--bump-filter` name as a filter: `none` is Blinn's bilinear FVAL on the full-resolution table.

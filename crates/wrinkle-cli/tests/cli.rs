@@ -895,3 +895,30 @@ fn a_frame_goes_to_the_standard_output() {
         assert!(run.stdout.is_empty());
     }
 }
+
+/// `--crop` renders the whole frame's pixels (and AOVs) of the rectangle, into an image of its size.
+#[test]
+fn a_crop_is_the_whole_frames_pixels() {
+    let s = Scratch::new("crop");
+    let (whole, part) = (s.out("whole.png"), s.out("part.png"));
+    let size = ["--width", "200", "--height", "120", "--spp", "4", "--aov", "depth"];
+    assert_ok(&wrinkle(&[&["render", "-o", &whole][..], &size].concat()));
+    assert_ok(&wrinkle(&[&["render", "-o", &part, "--crop", "30,70,190,119"][..], &size].concat()));
+    let (w, p) = (
+        wrinkle::image::io::load_rgba8(Path::new(&whole)).unwrap(),
+        wrinkle::image::io::load_rgba8(Path::new(&part)).unwrap(),
+    );
+    assert_eq!((p.width, p.height), (160, 49));
+    for y in 0..49 {
+        assert_eq!(p.pixels[y * 160..(y + 1) * 160], w.pixels[(y + 70) * 200 + 30..(y + 70) * 200 + 190], "row {y}");
+    }
+    let depth = |f: &str| read_exr_channels(Path::new(&f.replace(".png", ".depth.exr"))).unwrap().2[0].1.clone();
+    let (dw, dp) = (depth(&whole), depth(&part));
+    for y in 0..49 {
+        for x in 0..160 {
+            assert_eq!(dp[y * 160 + x].to_bits(), dw[(y + 70) * 200 + 30 + x].to_bits());
+        }
+    }
+    let run = wrinkle(&["render", "-o", &part, "--crop", "0,0,300,10", "--width", "200", "--height", "120"]);
+    assert_one_error(&run, 2, &["--crop must be X0,Y0,X1,Y1", "300"], &Scratch::new("crop_bad"));
+}

@@ -11,7 +11,7 @@ use std::sync::mpsc;
 use std::time::Duration;
 use wrinkle::render::{Aovs, Transparency};
 use wrinkle::texture::Filter;
-use wrinkle::RenderOptions;
+use wrinkle::{Crop, RenderOptions};
 
 /// How often a render in progress looks up from its work: for Ctrl-C, and to report progress.
 const POLL: Duration = Duration::from_millis(20);
@@ -60,7 +60,7 @@ impl Scene {
 
     /// Renders a frame: "color" (H, W, 3) linear RGB and each AOV named in `aovs`, as arrays. `progress`,
     /// when given, is called with (done, total) from the calling thread as bands finish.
-    #[pyo3(signature = (width, height, spp, aovs, bump, bump_filter, transparent, transparency, turntable, progress))]
+    #[pyo3(signature = (width, height, spp, aovs, bump, bump_filter, transparent, transparency, turntable, progress, crop=None))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
@@ -75,6 +75,7 @@ impl Scene {
         transparency: &str,
         turntable: f32,
         progress: Option<Bound<'py, PyAny>>,
+        crop: Option<(usize, usize, usize, usize)>,
     ) -> PyResult<Bound<'py, PyDict>> {
         let mut kinds = Aovs::default();
         for name in &aovs {
@@ -117,6 +118,7 @@ impl Scene {
                     )))
                 }
             },
+            crop: crop.map(|(x0, y0, x1, y1)| Crop { x0, y0, x1, y1 }),
         };
         options.validate().py_err()?;
         let frame = render_interruptibly(py, &self.scene, &options, progress.as_ref())?;

@@ -159,3 +159,25 @@ def test_the_gil_is_released_while_rendering():
     # thread runs all along (gaps of a switch interval or a progress look at most).
     assert end - start > 0.05
     assert gaps.max() < 0.5 * (end - start), (gaps.max(), end - start)
+
+
+@pytest.mark.parametrize("name", ["default", "shadows.toml", "panes.toml", "fractal_egg.toml", "environment_chrome.toml"])
+def test_crops_are_the_whole_frames_pixels(name, repo):
+    scene = wrinkle.Scene.default() if name == "default" else wrinkle.Scene.load(repo / "scenes" / name)
+    aov = ("depth", "alpha", "normal")
+    whole = scene.render(160, 100, spp=4, aov=aov)
+    for x0, y0, x1, y1 in [(0, 0, 160, 100), (13, 7, 77, 93), (64, 0, 128, 64), (100, 50, 160, 100), (5, 90, 6, 91)]:
+        part = scene.render(160, 100, spp=4, aov=aov, crop=(x0, y0, x1, y1))
+        for key in ("color", *aov):
+            assert part[key].shape[:2] == (y1 - y0, x1 - x0)
+            assert np.array_equal(part[key], whole[key][y0:y1, x0:x1], equal_nan=True), (name, key, (x0, y0, x1, y1))
+
+
+def test_a_frame_too_large_to_hold_renders_in_parts():
+    scene = wrinkle.Scene.default()
+    with pytest.raises(ValueError, match="in parts"):
+        scene.render(40000, 40000)
+    part = scene.render(40000, 40000, crop=(20000, 20000, 20064, 20032))
+    assert part["color"].shape == (32, 64, 3)
+    with pytest.raises(ValueError, match="crop"):
+        scene.render(100, 100, crop=(0, 0, 101, 50))

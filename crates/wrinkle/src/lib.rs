@@ -20,5 +20,5 @@ pub mod shade;
 pub mod texture;
 
 pub use error::{Error, Result};
-pub use render::{render, render_until, render_with_progress, Frame, RenderOptions};
+pub use render::{render, render_until, render_with_progress, Crop, Frame, RenderOptions};
 pub use scene::Scene;

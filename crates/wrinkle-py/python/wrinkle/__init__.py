@@ -151,6 +151,7 @@ class Scene:
         transparency: str = "sorted",
         turntable: float = 0.0,
         progress: Progress = None,
+        crop: Optional[Tuple[int, int, int, int]] = None,
     ) -> dict:
         """Renders a frame as `wrinkle render` does, returning arrays by name:
 
@@ -158,6 +159,9 @@ class Scene:
         - with `aov` naming them: "normal" (H, W, 3), "uv" (H, W, 2), "depth" (H, W) distance from the eye,
           "id" (H, W) object index, "primitive" (H, W, 2) uint32 (object, triangle), "alpha" (H, W) coverage.
           Pixels where no object is seen hold NaN (primitive: 2**32 - 1; alpha: 0).
+
+        `crop` = (x0, y0, x1, y1) renders only those pixels of the width x height frame (row 0 at the top),
+        exactly as the whole frame renders them; the arrays are the crop's size.
 
         `spp` is 1, 4 or 16 samples per pixel. `progress=True` shows a tqdm bar; a callable gets
         (done, total). Ctrl-C stops the render promptly (KeyboardInterrupt)."""
@@ -168,6 +172,7 @@ class Scene:
             return self._scene.render(
                 int(width), int(height), int(spp), [str(a) for a in aov], bool(bump), bump_filter,
                 bool(transparent), str(transparency), float(turntable), callback,
+                None if crop is None else tuple(int(c) for c in crop),
             )
         finally:
             if bar is not None:

@@ -40,6 +40,7 @@ class Scene:
         transparency: str,
         turntable: float,
         progress: Optional[Callable[[int, int], object]],
+        crop: Optional[Tuple[int, int, int, int]] = None,
     ) -> Dict[str, np.ndarray]: ...
 
 class Texture:

@@ -190,6 +190,28 @@ impl AovBand {
         }
     }
 
+    /// The AOVs of rows `rows` and columns `x0..x0 + width` of this band, `band_width` pixels wide.
+    pub fn cropped(&self, rows: std::ops::Range<usize>, x0: usize, width: usize, band_width: usize) -> AovBand {
+        fn cut<T: Copy>(v: &[T], rows: &std::ops::Range<usize>, x0: usize, width: usize, band_width: usize) -> Vec<T> {
+            match v.is_empty() {
+                true => Vec::new(),
+                false => {
+                    rows.clone().flat_map(|r| &v[r * band_width + x0..r * band_width + x0 + width]).copied().collect()
+                }
+            }
+        }
+        AovBand {
+            kinds: self.kinds,
+            normal: cut(&self.normal, &rows, x0, width, band_width),
+            uv: cut(&self.uv, &rows, x0, width, band_width),
+            depth: cut(&self.depth, &rows, x0, width, band_width),
+            id: cut(&self.id, &rows, x0, width, band_width),
+            primitive: cut(&self.primitive, &rows, x0, width, band_width),
+            alpha: cut(&self.alpha, &rows, x0, width, band_width),
+            sample_share: self.sample_share,
+        }
+    }
+
     /// Stores the pixel's AOVs from its covered samples (NaN stays where none was covered): the mean uv and
     /// depth, the mean normal made unit again, and the id of the object that covers most samples.
     pub fn set(&mut self, i: usize, s: &AovSample) {

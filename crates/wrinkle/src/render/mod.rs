@@ -60,6 +60,27 @@ pub struct RenderOptions {
     pub transparent: bool,
     /// How translucent (`alpha_mode = "blend"`) fragments are put in order.
     pub transparency: Transparency,
+    /// Only this part of the frame: pixels x0..x1, y0..y1 (row 0 at the top), exactly as the whole frame
+    /// renders them. The frame limits apply to the part.
+    pub crop: Option<Crop>,
+}
+
+/// A rectangle of the frame's pixels: x0..x1 by y0..y1.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Crop {
+    pub x0: usize,
+    pub y0: usize,
+    pub x1: usize,
+    pub y1: usize,
+}
+
+impl Crop {
+    pub fn width(&self) -> usize {
+        self.x1 - self.x0
+    }
+    pub fn height(&self) -> usize {
+        self.y1 - self.y0
+    }
 }
 
 impl Default for RenderOptions {
@@ -74,23 +95,47 @@ impl Default for RenderOptions {
             aovs: Aovs::default(),
             transparent: false,
             transparency: Transparency::default(),
+            crop: None,
         }
     }
 }
 
 impl RenderOptions {
+    /// The size of what is rendered and held: the crop, or the whole frame.
+    pub fn output_size(&self) -> (usize, usize) {
+        self.crop.map_or((self.width, self.height), |c| (c.width(), c.height()))
+    }
+
     pub fn validate(&self) -> Result<()> {
+        // A frame too large to hold is rendered in parts (crops): the side limit is then the part's, and
+        // the whole frame may be up to 65536 on a side (its tile grid, camera and one band per worker).
         let (side, pixels) = (Limit::FrameSide.count(), Limit::FramePixels.count());
+        let whole_side = if self.crop.is_some() { 1 << 16 } else { side };
         for (name, v) in [("width", self.width), ("height", self.height)] {
-            if v == 0 || v > side {
-                return Err(Error::parameter(name, format!("must be between 1 and {side}, got {v}")));
+            if v == 0 || v > whole_side {
+                let parts =
+                    if v > side && self.crop.is_none() { " (a larger frame renders in parts: crop)" } else { "" };
+                return Err(Error::parameter(name, format!("must be between 1 and {whole_side}, got {v}{parts}")));
             }
         }
-        if self.width * self.height > pixels {
+        if let Some(c) = self.crop {
+            if !(c.x0 < c.x1 && c.y0 < c.y1 && c.x1 <= self.width && c.y1 <= self.height) {
+                return Err(Error::parameter(
+                    "crop",
+                    format!(
+                        "must be X0,Y0,X1,Y1 with X0 < X1 <= {} and Y0 < Y1 <= {}, got {},{},{},{}",
+                        self.width, self.height, c.x0, c.y0, c.x1, c.y1
+                    ),
+                ));
+            }
+            if c.width() > side || c.height() > side {
+                return Err(Error::parameter("crop", format!("must be at most {side} pixels on a side")));
+            }
+        }
+        let (w, h) = self.output_size();
+        if w * h > pixels {
             return Err(Error::Invalid(format!(
-                "{}x{} is more than the {pixels} pixel limit of a frame ({})",
-                self.width,
-                self.height,
+                "{w}x{h} is more than the {pixels} pixel limit of a frame ({}; or render it in parts with a crop)",
                 Limit::FramePixels.hint()
             )));
         }
@@ -149,8 +194,9 @@ fn render_view(
 ) -> Result<Frame> {
     options.validate()?;
     let (w, h) = (options.width, options.height);
+    let (ow, oh) = options.output_size();
     let aovs = Aovs { alpha: options.transparent || options.aovs.alpha, ..options.aovs };
-    crate::limits::reserve((w * h) as u64 * aovs.bytes_per_pixel(), || format!("a {w}x{h} frame"))?;
+    crate::limits::reserve((ow * oh) as u64 * aovs.bytes_per_pixel(), || format!("a {ow}x{oh} frame"))?;
     let mut stats = Stats::default();
     let cam = view.camera;
     let camera = Camera::new(cam.eye, cam.look_at, cam.up, cam.projection, w as u32, h as u32);
@@ -217,7 +263,7 @@ fn render_view(
         instances.iter().map(|i| options.bump && scene.materials[i.material].replaces_depth()).collect();
     // A transparent background: black and alpha 0 where nothing is seen, colour premultiplied by coverage.
     let background = if options.transparent { Vec3::ZERO } else { cam.background };
-    let mut frame = Frame::new(w, h, aovs, background);
+    let mut frame = Frame::new(ow, oh, aovs, background);
     let band_len = tile_size * w;
     let job = TileJob {
         background,
@@ -232,25 +278,32 @@ fn render_view(
         ..TileJob::visibility(&drawn, &bins, &camera, &pattern, &instances, &shade_ctx, &cutoffs, &replacing)
     };
     let (bands_done, bands) = (AtomicUsize::new(0), bins.tiles_y);
-    let band_aovs: Vec<frame::AovBand> = frame
-        .color
-        .par_chunks_mut(band_len)
-        .enumerate()
-        .map_init(
-            || TileScratch::new(tile_size, options.spp),
-            |scratch, (ty, color)| {
-                let mut aov = frame::AovBand::new(aovs, color.len(), options.spp);
-                if stopped(view) {
-                    return aov;
-                }
-                for tx in 0..bins.tiles_x {
-                    job.tile(scratch, (tx, ty), color, &mut aov, w, h);
-                }
-                progress(bands_done.fetch_add(1, Ordering::Relaxed) + 1, bands);
-                aov
-            },
-        )
-        .collect();
+    let band_aovs: Vec<frame::AovBand> = match options.crop {
+        Some(crop) => {
+            let bands = crop.y1.div_ceil(tile_size) - crop.y0 / tile_size;
+            let done = || progress(bands_done.fetch_add(1, Ordering::Relaxed) + 1, bands);
+            crop_bands(&job, &mut frame.color, crop, (w, h, options.spp), tile_size, &|| stopped(view), &done)
+        }
+        None => frame
+            .color
+            .par_chunks_mut(band_len)
+            .enumerate()
+            .map_init(
+                || TileScratch::new(tile_size, options.spp),
+                |scratch, (ty, color)| {
+                    let mut aov = frame::AovBand::new(aovs, color.len(), options.spp);
+                    if stopped(view) {
+                        return aov;
+                    }
+                    for tx in 0..bins.tiles_x {
+                        job.tile(scratch, (tx, ty), color, &mut aov, w, h);
+                    }
+                    progress(bands_done.fetch_add(1, Ordering::Relaxed) + 1, bands);
+                    aov
+                },
+            )
+            .collect(),
+    };
     if stopped(view) {
         return Err(Error::Interrupted);
     }
@@ -275,6 +328,55 @@ fn ibl(scene: &Scene) -> Option<Ibl> {
         .map(|m| (m.phong.specular > 0.0).then(|| env.lobe(Ibl::phong_exponent(m.phong.shininess))))
         .collect();
     Some(Ibl { radiance, diffuse: env.lobe(1.0), glossy })
+}
+
+/// The tile rows that meet `crop`, each rendered into a whole-width band of its own (only the tiles that
+/// meet the crop) and cut to the crop: the crop's pixels are exactly the whole frame's. `stop` is asked
+/// before each band; `done` is told after each.
+fn crop_bands(
+    job: &TileJob,
+    color: &mut [[f32; 3]],
+    crop: Crop,
+    (w, h, spp): (usize, usize, usize),
+    tile_size: usize,
+    stop: &(dyn Fn() -> bool + Sync),
+    done: &(dyn Fn() + Sync),
+) -> Vec<frame::AovBand> {
+    let (ty0, ty1) = (crop.y0 / tile_size, crop.y1.div_ceil(tile_size));
+    let (tx0, tx1) = (crop.x0 / tile_size, crop.x1.div_ceil(tile_size));
+    let cw = crop.width();
+    // The crop's rows split by tile row.
+    let mut parts = Vec::with_capacity(ty1 - ty0);
+    let mut rest = color;
+    for ty in ty0..ty1 {
+        let rows = (ty * tile_size).max(crop.y0)..((ty + 1) * tile_size).min(crop.y1);
+        let (part, tail) = rest.split_at_mut(rows.len() * cw);
+        parts.push((ty, rows, part));
+        rest = tail;
+    }
+    parts
+        .into_par_iter()
+        .map_init(
+            || TileScratch::new(tile_size, spp),
+            |scratch, (ty, rows, part)| {
+                let band_rows = tile_size.min(h - ty * tile_size);
+                let mut band = vec![job.background.to_array(); band_rows * w];
+                let mut aov = frame::AovBand::new(job.aovs, band.len(), spp);
+                let local = rows.start - ty * tile_size..rows.end - ty * tile_size;
+                if stop() {
+                    return aov.cropped(local, crop.x0, cw, w);
+                }
+                for tx in tx0..tx1 {
+                    job.tile(scratch, (tx, ty), &mut band, &mut aov, w, h);
+                }
+                for (dst, r) in part.chunks_exact_mut(cw).zip(local.clone()) {
+                    dst.copy_from_slice(&band[r * w + crop.x0..r * w + crop.x0 + cw]);
+                }
+                done();
+                aov.cropped(local, crop.x0, cw, w)
+            },
+        )
+        .collect()
 }
 
 fn stopped(view: &View) -> bool {
