@@ -161,7 +161,9 @@ def test_the_gil_is_released_while_rendering():
     assert gaps.max() < 0.5 * (end - start), (gaps.max(), end - start)
 
 
-@pytest.mark.parametrize("name", ["default", "shadows.toml", "panes.toml", "fractal_egg.toml", "environment_chrome.toml"])
+@pytest.mark.parametrize(
+    "name", ["default", "shadows.toml", "panes.toml", "fractal_egg.toml", "environment_chrome.toml", "reflect_views.toml"]
+)
 def test_crops_are_the_whole_frames_pixels(name, repo):
     scene = wrinkle.Scene.default() if name == "default" else wrinkle.Scene.load(repo / "scenes" / name)
     aov = ("depth", "alpha", "normal")

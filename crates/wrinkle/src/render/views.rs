@@ -33,6 +33,8 @@ pub fn object_views(scene: &Scene, options: &RenderOptions, camera: &Camera) -> 
             spp: 1,
             aovs: Default::default(),
             transparent: false,
+            // The six views are whole: a crop is the frame's, not theirs.
+            crop: None,
             ..options.clone()
         };
         let faces = Face::ALL
