@@ -5,7 +5,7 @@ use crate::normalmap::ConventionArg;
 use clap::Args;
 use std::path::PathBuf;
 use wrinkle::bump::integrate::{
-    field_size, frankot_chellappa, gradient_of_normal, settle_heights, BYTES_PER_FIELD_PIXEL,
+    check_strength, field_size, frankot_chellappa, gradient_of_normal, settle_heights, BYTES_PER_FIELD_PIXEL,
 };
 use wrinkle::bump::normal_map::decode_normal;
 use wrinkle::image::stream::{write_rows, ImageRows, OutputFormat, RowFormat};
@@ -52,9 +52,7 @@ pub struct HeightmapArgs {
 pub fn run(args: &HeightmapArgs) -> Result<()> {
     let start = std::time::Instant::now();
     let compression = args.stream.prepare()?;
-    if !(args.strength.is_finite() && args.strength > 0.0) {
-        return Err(Error::Invalid(format!("--strength must be a positive number, got {}", args.strength)));
-    }
+    check_strength(args.strength)?;
     let sixteen = match args.depth {
         8 => false,
         16 => true,

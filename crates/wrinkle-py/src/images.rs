@@ -8,7 +8,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
 use wrinkle::bump::generators::{BrickParams, Generator, GridParams, RivetParams, TextParams};
-use wrinkle::bump::integrate::{frankot_chellappa, gradient_of_normal, settle_heights};
+use wrinkle::bump::integrate::{check_strength, frankot_chellappa, gradient_of_normal, settle_heights};
 use wrinkle::bump::normal_map::{Convention, Kernel, NormalMap};
 use wrinkle::bump::schlag::{emboss_image, modulate_rgb8, Emboss};
 use wrinkle::image::color::SrgbEncoder;
@@ -119,9 +119,7 @@ fn height_from_normals<'py>(
     normalize: bool,
 ) -> PyResult<(Bound<'py, PyArrayDyn<f32>>, f32)> {
     let s = shape("normals", &normals, &[None, None, Some(3)])?;
-    if !(strength.is_finite() && strength > 0.0) {
-        return Err(invalid(format!("strength must be a positive number, got {strength}")));
-    }
+    check_strength(strength).py_err()?;
     let flip = if self::convention(convention)? == Convention::DirectX { -1.0 } else { 1.0 };
     let (w, h) = (s[1], s[0]);
     let n = slice("normals", &normals)?;

@@ -169,6 +169,15 @@ fn render_interruptibly(
         });
         let mut failure: Option<PyErr> = None;
         let (mut rx, mut told) = (rx, 0);
+        // Tells the callback how far the render is, when it has moved on since the last time.
+        let tell = |told: &mut usize| -> PyResult<()> {
+            let d = done.load(Ordering::Relaxed);
+            if let (Some(callback), true) = (progress, d > *told) {
+                *told = d;
+                callback.call1((d, total.load(Ordering::Relaxed)))?;
+            }
+            Ok(())
+        };
         loop {
             // The receiver goes to the detached closure and comes back (it may move between threads, not be shared).
             let (back, result) = py.detach(move || {
@@ -186,25 +195,13 @@ fn render_interruptibly(
                 }
                 let frame = result.map_err(to_py)?;
                 // The last report, which a render faster than one look never gave.
-                let d = done.load(Ordering::Relaxed);
-                if let (Some(callback), true) = (progress, d > told) {
-                    callback.call1((d, total.load(Ordering::Relaxed)))?;
-                }
+                tell(&mut told)?;
                 return Ok(frame);
             }
             if failure.is_some() {
                 continue;
             }
-            let mut look = || -> PyResult<()> {
-                py.check_signals()?;
-                let d = done.load(Ordering::Relaxed);
-                if let (Some(callback), true) = (progress, d > told) {
-                    told = d;
-                    callback.call1((d, total.load(Ordering::Relaxed)))?;
-                }
-                Ok(())
-            };
-            if let Err(e) = look() {
+            if let Err(e) = py.check_signals().and_then(|()| tell(&mut told)) {
                 stop.store(true, Ordering::Relaxed);
                 failure = Some(e);
             }

@@ -28,6 +28,14 @@ pub fn field_size(width: usize, height: usize, wrap: bool) -> (usize, usize) {
 /// Normals closer to the picture's plane than this z are treated as this steep (the slope stays finite).
 const MIN_NZ: f32 = 1e-3;
 
+/// Checks the `strength` a normal map was made with (the height of white above black in pixels).
+pub fn check_strength(strength: f32) -> crate::Result<()> {
+    match strength.is_finite() && strength > 0.0 {
+        true => Ok(()),
+        false => Err(crate::Error::parameter("strength", format!("must be a positive number, got {strength}"))),
+    }
+}
+
 /// The height gradient (p = dh/dx, q = dh/dy with y down the rows) of heights in [0, 1] under the unit
 /// normal `n` (OpenGL convention: y up the picture) of a map made with `strength` (the height of white above
 /// black in pixels).
