@@ -12,7 +12,7 @@
 //! - paraboloid: image 0 the +Z half, s = x / (2 (1 + z)) + 1/2, t = y / (2 (1 + z)) + 1/2; image 1 the -Z
 //!   half, mirrored in x (s = -x / (2 (1 - z)) + 1/2), so that side by side the two meet at +X.
 
-use crate::lanes::{CmpEq, CmpGe, CmpLt, F8, LANES, V3};
+use crate::lanes::{asin, atan2, CmpEq, CmpGe, CmpLt, F8, LANES, V3};
 use glam::Vec3;
 use std::f32::consts::PI;
 
@@ -66,8 +66,8 @@ impl Layout {
             Layout::LatLong => {
                 // Away from the poles by a hair: s is undefined on them.
                 let ring = (d.x * d.x + d.z * d.z).max(F8::splat(1e-12));
-                let s = half + d.x.atan2(-d.z) * F8::splat(0.5 / PI);
-                let t = half + d.y.max(-one).min(one).asin() * F8::splat(1.0 / PI);
+                let s = half + atan2(d.x, -d.z) * F8::splat(0.5 / PI);
+                let t = half + asin(d.y.max(-one).min(one)) * F8::splat(1.0 / PI);
                 let k = F8::splat(0.5 / PI) / ring;
                 let ds = V3 { x: -d.z * k, y: F8::ZERO, z: d.x * k };
                 let dt = V3 { x: F8::ZERO, y: F8::splat(1.0 / PI) / ring.sqrt(), z: F8::ZERO };

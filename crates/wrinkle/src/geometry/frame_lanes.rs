@@ -2,7 +2,7 @@
 //! all lanes together; the other surfaces lane by lane through their scalar frames.
 
 use super::surface::{Surface, SurfaceFrame};
-use crate::lanes::{CmpGe, CmpGt, CmpLe, CmpLt, F8, LANES, V3};
+use crate::lanes::{mul_add, CmpGe, CmpGt, CmpLe, CmpLt, F8, LANES, V3};
 use crate::texture::Footprint8;
 use std::f32::consts::{PI, TAU};
 use wide::CmpEq;
@@ -146,9 +146,9 @@ pub fn sin_cos_turns8(t: F8) -> (F8, F8) {
     let poly = |c: [f32; 4], first: f32| {
         let mut p = F8::splat(c[3]);
         for k in (0..3).rev() {
-            p = p.mul_add(a2, F8::splat(c[k]));
+            p = mul_add(p, a2, F8::splat(c[k]));
         }
-        p.mul_add(a2, F8::splat(first))
+        mul_add(p, a2, F8::splat(first))
     };
     let s = a * poly([-1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0, 1.0 / 362_880.0], 1.0);
     let c = poly([-0.5, 1.0 / 24.0, -1.0 / 720.0, 1.0 / 40_320.0], 1.0);

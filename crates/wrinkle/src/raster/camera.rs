@@ -2,7 +2,7 @@
 //! onto a screen of pixels with row 0 at the top.
 
 use crate::geometry::mesh_lanes::Rays8;
-use crate::lanes::{F8, V3};
+use crate::lanes::{mul_add, F8, V3};
 use glam::{Affine3A, Vec2, Vec3};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -126,7 +126,7 @@ impl Camera {
                 let inv_w = F8::ONE / -p.z;
                 let (x_w, y_w) = (p.x * inv_w, p.y * inv_w);
                 let kw = k * inv_w;
-                (x_w.mul_add(d.z, d.x) * kw, -(y_w.mul_add(d.z, d.y) * kw))
+                (mul_add(x_w, d.z, d.x) * kw, -(mul_add(y_w, d.z, d.y) * kw))
             }
             Projection::Orthographic { .. } => (d.x * k, -d.y * k),
         }

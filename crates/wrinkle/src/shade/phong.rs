@@ -1,6 +1,6 @@
 //! The Blinn-Phong reflection of one light.
 
-use crate::lanes::{CmpGt, F8, V3};
+use crate::lanes::{pow, CmpGt, F8, V3};
 use crate::light::{Light, Spot};
 
 /// The specular lobe of Blinn-Phong: specular (N.H)^shininess.
@@ -45,7 +45,7 @@ impl Phong {
         let ndoth = n.dot(h);
         let glints = ndoth.cmp_gt(F8::splat(self.cutoff));
         let spec = if glints.any() {
-            glints.blend(ks * ndoth.pow_f32x8(exponent.unwrap_or(F8::splat(self.shininess))), F8::ZERO)
+            glints.blend(ks * pow(ndoth, exponent.unwrap_or(F8::splat(self.shininess))), F8::ZERO)
         } else {
             F8::ZERO
         };

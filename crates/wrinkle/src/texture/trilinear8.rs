@@ -8,7 +8,7 @@ use super::mip::level_pair;
 use super::rgba8::Rgba8Plane;
 use super::texel::TexelSource;
 use super::{Footprint, Footprint8};
-use crate::lanes::{permute, permute_f, sum_lanes, CmpGt, CmpLt, F8, I8, LANES};
+use crate::lanes::{log2, mul_add, permute, permute_f, sum_lanes, CmpGt, CmpLt, F8, I8, LANES};
 use glam::Vec4;
 
 /// RGBA as four channel lanes.
@@ -23,7 +23,7 @@ pub fn trilinear8(levels: &[Rgba8Plane], s: F8, t: F8, fp: &Footprint8) -> Rgba8
     let len2 = (ux * ux + vx * vx).max(uy * uy + vy * vy);
     let last = (levels.len() - 1) as f32;
     // log2 of the longer axis, from its square; 0 below one texel.
-    let level = len2.cmp_gt(F8::ONE).blend(F8::splat(0.5 * std::f32::consts::LOG2_E) * len2.ln(), F8::ZERO);
+    let level = len2.cmp_gt(F8::ONE).blend(F8::splat(0.5) * log2(len2), F8::ZERO);
     let level = level.min(F8::splat(last));
     let l0 = level.floor();
     let frac = level - l0;
@@ -63,7 +63,7 @@ pub fn trilinear_taps8(levels: &[Rgba8Plane], s: f32, t: f32, fp: &Footprint) ->
     let texels = Rgba8Plane::gather_split8(fine, coarse, index);
     // The tent's weights per axis (1 - f for the first tap, f for the second), the level's share on x.
     let nextf = next.round_float();
-    let tent = (pos - floor).mul_add(nextf + nextf - F8::ONE, F8::ONE - nextf)
+    let tent = mul_add(pos - floor, nextf + nextf - F8::ONE, F8::ONE - nextf)
         * F8::new([1.0 - frac, 1.0 - frac, 1.0, 1.0, frac, frac, 1.0, 1.0]);
     let weight = permute_f(tent, columns) * permute_f(tent, rows);
     Vec4::from(sum_lanes(texels.map(|c| c * weight)))

@@ -1,6 +1,10 @@
 //! Eight samples at a time: f32x8 lanes and 3-vectors of them (structure of arrays), for the shading of
 //! sample packets. Gathers (table and texture lookups) stay per lane; the arithmetic around them runs on
-//! all eight lanes at once.
+//! all eight lanes at once. Every path gives the same bits on every x86-64 CPU (see `math`).
+
+mod math;
+
+pub use math::{asin, atan2, exp2, log2, mul_add, pow};
 
 use glam::{Affine3A, Mat3, Vec3};
 use std::ops::{Add, Mul, Neg, Sub};
@@ -148,8 +152,12 @@ pub fn sum_lanes(a: [F8; 4]) -> [f32; 4] {
         let h = _mm256_hadd_ps(_mm256_hadd_ps(p, q), _mm256_hadd_ps(r, s));
         std::mem::transmute::<__m128, [f32; 4]>(_mm_add_ps(_mm256_castps256_ps128(h), _mm256_extractf128_ps::<1>(h)))
     }
+    // The same additions in the same order as the AVX2 path, so that both give the same bits.
     #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
-    a.map(|v| v.reduce_add())
+    a.map(|v| {
+        let v = v.to_array();
+        ((v[0] + v[1]) + (v[2] + v[3])) + ((v[4] + v[5]) + (v[6] + v[7]))
+    })
 }
 
 /// Eight 3-vectors, one per lane.
@@ -193,7 +201,7 @@ impl V3 {
 
     #[inline]
     pub fn dot(self, o: V3) -> F8 {
-        self.x.mul_add(o.x, self.y.mul_add(o.y, self.z * o.z))
+        mul_add(self.x, o.x, mul_add(self.y, o.y, self.z * o.z))
     }
 
     #[inline]
