@@ -74,10 +74,6 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    // First, before any code built for x86-64-v3 runs: a clear message instead of an illegal instruction.
-    if !cpu::supported() {
-        cpu::explain_and_exit();
-    }
     remove_temporaries_on_signals();
     run_cli()
 }

@@ -12,9 +12,17 @@ mod noise;
 mod scene;
 mod texture;
 
+/// Whether this CPU runs x86-64-v3 code: the portable module answers before the package loads the other.
+#[pyfunction]
+fn cpu_runs_x86_64_v3() -> bool {
+    wrinkle::cpu::runs_x86_64_v3()
+}
+
 #[pymodule]
 fn _wrinkle(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("BUILD_LEVEL", wrinkle::cpu::BUILD_LEVEL)?;
+    m.add_function(wrap_pyfunction!(cpu_runs_x86_64_v3, m)?)?;
     m.add("SceneError", m.py().get_type::<errors::SceneError>())?;
     m.add_class::<scene::Scene>()?;
     m.add_class::<texture::Texture>()?;

@@ -37,17 +37,45 @@ fn venv(target: &Path, crate_dir: &Path) -> PathBuf {
     python
 }
 
-/// The package as it would be installed: its Python files and the extension under its module name.
-fn stage(profile: &Path, crate_dir: &Path) -> PathBuf {
+/// The extension module built for baseline x86-64 as scripts/build-portable.sh builds it (its own target
+/// folder, RUSTFLAGS replacing .cargo/config.toml's x86-64-v3), or None off x86-64.
+fn portable_module(target: &Path) -> Option<PathBuf> {
+    if !cfg!(target_arch = "x86_64") {
+        return None;
+    }
+    let portable = target.join("portable");
+    run(
+        Command::new(std::env::var_os("CARGO").unwrap_or("cargo".into()))
+            .args(["build", "--release", "-p", "wrinkle-py", "--target-dir"])
+            .arg(&portable)
+            .env_remove("CARGO_ENCODED_RUSTFLAGS")
+            .env("RUSTFLAGS", "-C target-cpu=x86-64"),
+        "the portable build of the extension module",
+    );
+    Some(portable.join("release/lib_wrinkle.so"))
+}
+
+/// Copies the Python files of the folder `from` into `to`.
+fn copy_python_files(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).expect("the staging folder");
+    for entry in std::fs::read_dir(from).expect("a package folder") {
+        let path = entry.expect("a package file").path();
+        if path.is_file() && path.extension().is_some_and(|e| e == "py" || e == "pyi" || e == "typed") {
+            std::fs::copy(&path, to.join(path.file_name().unwrap())).expect("copying a package file");
+        }
+    }
+}
+
+/// The package as it would be installed: its Python files, the extension under its module name and the
+/// portable one where there is one.
+fn stage(profile: &Path, crate_dir: &Path, portable: Option<&Path>) -> PathBuf {
     let stage = profile.join("py-stage");
     let package = stage.join("wrinkle");
     let _ = std::fs::remove_dir_all(&stage);
-    std::fs::create_dir_all(&package).expect("the staging folder");
-    for entry in std::fs::read_dir(crate_dir.join("python/wrinkle")).expect("python/wrinkle") {
-        let path = entry.expect("a package file").path();
-        if path.is_file() {
-            std::fs::copy(&path, package.join(path.file_name().unwrap())).expect("copying a package file");
-        }
+    copy_python_files(&crate_dir.join("python/wrinkle"), &package);
+    copy_python_files(&crate_dir.join("python/wrinkle/_portable"), &package.join("_portable"));
+    if let Some(module) = portable {
+        std::fs::copy(module, package.join("_portable/_wrinkle.abi3.so")).expect("copying the portable module");
     }
     // Cargo writes the cdylib into deps/ in every build of the package (uplifted beside it only by `cargo build`).
     let built = profile.join("deps/lib_wrinkle.so");
@@ -67,7 +95,8 @@ fn python_package_tests_and_examples() {
     let repo = crate_dir.join("../..").canonicalize().expect("the repository");
     let profile = profile_dir();
     let python = venv(profile.parent().expect("target/"), crate_dir);
-    let stage = stage(&profile, crate_dir);
+    let portable = portable_module(profile.parent().expect("target/"));
+    let stage = stage(&profile, crate_dir, portable.as_deref());
     let cli = profile.join("wrinkle");
     if std::env::var_os("CI").is_some() {
         assert!(cli.exists(), "{} is missing: run the workspace's tests (--workspace)", cli.display());
@@ -79,6 +108,7 @@ fn python_package_tests_and_examples() {
         .env("PYTHONPATH", &stage)
         .env("WRINKLE_REPO", &repo)
         .env("MPLBACKEND", "Agg")
+        .env("WRINKLE_PORTABLE_STAGED", if portable.is_some() { "1" } else { "0" })
         .current_dir(&repo);
     if cli.exists() {
         pytest.env("WRINKLE_CLI", &cli);

@@ -4,6 +4,7 @@
 //! -> shade (exact surface frame, Blinn perturbation, textures, lights) -> resolve -> encode.
 
 pub mod bump;
+pub mod cpu;
 pub mod envmap;
 pub mod error;
 pub mod geometry;

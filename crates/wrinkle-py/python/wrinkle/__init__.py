@@ -18,9 +18,8 @@ import numpy as np
 
 from . import _cpu
 
-_cpu.check()
+_wrinkle = _cpu.load()  # before anything else loads the extension module, on purpose
 
-from . import _wrinkle  # noqa: E402  (after the CPU check, on purpose)
 from . import bumpgen, noise  # noqa: E402
 from .tables import (  # noqa: E402
     Bicubic, Billboard, Box, Bump, Camera, Cylinder, Environment, Light, Material, Mesh, Patch, Sphere, Table,
@@ -30,6 +29,9 @@ from ._arrays import floats, grey  # noqa: E402
 from ._wrinkle import SceneError  # noqa: E402
 
 __version__: str = _wrinkle.__version__
+#: The instruction set the loaded extension module was built for: "x86-64-v3", or "x86-64" for the portable
+#: one (the same results, for CPUs without AVX2).
+build_level: str = _wrinkle.BUILD_LEVEL
 
 __all__ = [
     "Bicubic", "Billboard", "Box", "Bump", "Camera", "Cylinder", "Environment", "Light", "Material", "Mesh",
@@ -38,6 +40,7 @@ __all__ = [
     "SceneError",
     "Texture",
     "bumpgen",
+    "build_level",
     "emboss",
     "height_from_normals",
     "noise",

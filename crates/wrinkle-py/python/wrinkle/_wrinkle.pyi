@@ -9,6 +9,10 @@ import numpy as np
 import numpy.typing as npt
 
 __version__: str
+BUILD_LEVEL: str
+
+def cpu_runs_x86_64_v3() -> bool:
+    """Whether this CPU runs x86-64-v3 code (CPUID: AVX2, FMA, BMI2 and the OS saving AVX state)."""
 
 F32 = npt.NDArray[np.float32]
 U8 = npt.NDArray[np.uint8]

@@ -7,9 +7,9 @@
 //! multiply-add is fused on every build (FMA instructions on x86-64-v3, the C library's exact `fmaf` per
 //! lane elsewhere), and the rest is plain IEEE arithmetic, exact the same everywhere.
 
+use super::{CmpEq, CmpGt, CmpLt};
 use super::{F8, I8};
 use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, LN_2, LOG2_E, PI, SQRT_2};
-use super::{CmpEq, CmpGt, CmpLt};
 
 /// `a * b + c` with one rounding, on every lane and every CPU.
 #[inline]
