@@ -2,9 +2,9 @@
 # Builds wrinkle for any x86-64 CPU (baseline x86-64: SSE2, no AVX) beside the default x86-64-v3 build:
 #   target/release/wrinkle-portable                       the CLI; target/release/wrinkle hands over to it
 #                                                         on a CPU without AVX2
-#   crates/wrinkle-py/python/wrinkle/_portable/_wrinkle.abi3.so
-#                                                         the Python module; `pip install ./crates/wrinkle-py`
-#                                                         after this packs it beside the default one
+#   crates/wrinkle-py/python/wrinkle/_wrinkle_portable.abi3.so
+#                                                         the Python module, to copy beside _wrinkle.abi3.so
+#                                                         in the installed package (maturin does not pack it)
 # Both give the same bits as the x86-64-v3 build (crates/wrinkle/src/lanes/math.rs), slower.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -14,7 +14,7 @@ if [ "$(uname -m)" != x86_64 ]; then
 fi
 # RUSTFLAGS replaces .cargo/config.toml's target-cpu=x86-64-v3; its own target folder keeps both builds.
 RUSTFLAGS="-C target-cpu=x86-64" cargo build --release -p wrinkle-cli -p wrinkle-py --target-dir target/portable
-mkdir -p target/release crates/wrinkle-py/python/wrinkle/_portable
+mkdir -p target/release
 install -m 755 target/portable/release/wrinkle target/release/wrinkle-portable
-install -m 644 target/portable/release/lib_wrinkle.so crates/wrinkle-py/python/wrinkle/_portable/_wrinkle.abi3.so
-echo "built target/release/wrinkle-portable and crates/wrinkle-py/python/wrinkle/_portable/_wrinkle.abi3.so"
+install -m 644 target/portable/release/lib_wrinkle.so crates/wrinkle-py/python/wrinkle/_wrinkle_portable.abi3.so
+echo "built target/release/wrinkle-portable and crates/wrinkle-py/python/wrinkle/_wrinkle_portable.abi3.so (a build output: do not commit it)"

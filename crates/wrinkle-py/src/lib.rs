@@ -18,7 +18,10 @@ fn cpu_runs_x86_64_v3() -> bool {
     wrinkle::cpu::runs_x86_64_v3()
 }
 
+// The portable build is `wrinkle._wrinkle_portable`, beside this one in the same package (maturin leaves out
+// of a wheel any other file named as the module).
 #[pymodule]
+#[cfg_attr(not(all(target_arch = "x86_64", target_feature = "avx2")), pyo3(name = "_wrinkle_portable"))]
 fn _wrinkle(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("BUILD_LEVEL", wrinkle::cpu::BUILD_LEVEL)?;

@@ -73,9 +73,8 @@ fn stage(profile: &Path, crate_dir: &Path, portable: Option<&Path>) -> PathBuf {
     let package = stage.join("wrinkle");
     let _ = std::fs::remove_dir_all(&stage);
     copy_python_files(&crate_dir.join("python/wrinkle"), &package);
-    copy_python_files(&crate_dir.join("python/wrinkle/_portable"), &package.join("_portable"));
     if let Some(module) = portable {
-        std::fs::copy(module, package.join("_portable/_wrinkle.abi3.so")).expect("copying the portable module");
+        std::fs::copy(module, package.join("_wrinkle_portable.abi3.so")).expect("copying the portable module");
     }
     // Cargo writes the cdylib into deps/ in every build of the package (uplifted beside it only by `cargo build`).
     let built = profile.join("deps/lib_wrinkle.so");

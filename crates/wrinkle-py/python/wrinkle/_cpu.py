@@ -2,8 +2,8 @@
 
 The default module is built for x86-64-v3 (AVX2, FMA, BMI2; .cargo/config.toml): on an older CPU its
 first such instruction would kill the interpreter with SIGILL and no word of why. An installation made
-after scripts/build-portable.sh also holds a portable module (wrinkle/_portable, baseline x86-64, the same
-bits out); it asks the CPU itself (CPUID) and the package loads the module the CPU runs. Without the
+after scripts/build-portable.sh also holds a portable module (wrinkle._wrinkle_portable, baseline x86-64,
+the same bits out); it asks the CPU itself (CPUID) and the package loads the module the CPU runs. Without the
 portable module the CPU's features are read from /proc/cpuinfo (Linux), and an older CPU gets ImportError.
 
 WRINKLE_BUILD=portable in the environment loads the portable module on any CPU."""
@@ -20,7 +20,7 @@ from typing import List, Optional
 # x86-64-v3 as /proc/cpuinfo names its features ("abm" is LZCNT).
 NEEDED = ("avx", "avx2", "bmi1", "bmi2", "f16c", "fma", "movbe", "abm", "xsave")
 
-BUILD_PORTABLE = "scripts/build-portable.sh, then pip install ./crates/wrinkle-py again"
+BUILD_PORTABLE = "scripts/build-portable.sh and copy its _wrinkle_portable.abi3.so beside _wrinkle.abi3.so"
 
 
 def missing_features(cpuinfo: str) -> List[str]:
@@ -53,7 +53,7 @@ def check() -> None:
 
 def _portable() -> Optional[ModuleType]:
     try:
-        return importlib.import_module("wrinkle._portable._wrinkle")
+        return importlib.import_module("wrinkle._wrinkle_portable")
     except ImportError:
         return None
 
