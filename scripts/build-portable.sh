@@ -3,8 +3,8 @@
 #   target/release/wrinkle-portable                       the CLI; target/release/wrinkle hands over to it
 #                                                         on a CPU without AVX2
 #   crates/wrinkle-py/python/wrinkle/_wrinkle_portable.abi3.so
-#                                                         the Python module, to copy beside _wrinkle.abi3.so
-#                                                         in the installed package (maturin does not pack it)
+#                                                         the Python module: `pip install ./crates/wrinkle-py`
+#                                                         (or maturin build) after this packs it in the wheel
 # Both give the same bits as the x86-64-v3 build (crates/wrinkle/src/lanes/math.rs), slower.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -20,7 +20,7 @@ from typing import List, Optional
 # x86-64-v3 as /proc/cpuinfo names its features ("abm" is LZCNT).
 NEEDED = ("avx", "avx2", "bmi1", "bmi2", "f16c", "fma", "movbe", "abm", "xsave")
 
-BUILD_PORTABLE = "scripts/build-portable.sh and copy its _wrinkle_portable.abi3.so beside _wrinkle.abi3.so"
+BUILD_PORTABLE = "scripts/build-portable.sh, then pip install ./crates/wrinkle-py again"
 
 
 def missing_features(cpuinfo: str) -> List[str]:
