@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# Renders the canonical scene (../shared/canonical/sphere.toml, 1920x1080) with and without bump mapping,
+# Renders the canonical scene (bench/canonical/sphere.toml, 1920x1080) with and without bump mapping,
 # alternating, on all cores and on one; then with 16 samples per pixel. Prints one line per run.
 # Usage: bench/canonical.sh [ROUNDS]   (from the repository root)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 rounds=${1:-5}
-scene=../shared/canonical/sphere.toml
+scene=bench/canonical/sphere.toml
 cargo build --release -q -p wrinkle-cli
 bin=target/release/wrinkle
 for ((r = 0; r < rounds; r++)); do

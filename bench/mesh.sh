@@ -13,8 +13,8 @@ cargo build --release -q -p wrinkle-cli
 cargo build --release -q -p wrinkle --example model_parsers_alone
 bin=target/release/wrinkle
 python3 bench/mesh_sphere.py "$dir"
-cp ../shared/canonical/bricks_color.png "$dir/"
-$bin normalmap ../shared/canonical/bricks_height.png -o "$dir/bricks_normal.png" --strength 2 --wrap
+cp bench/canonical/bricks_color.png "$dir/"
+$bin normalmap bench/canonical/bricks_height.png -o "$dir/bricks_normal.png" --strength 2 --wrap
 cat > "$dir/mesh.toml" <<'TOML'
 [camera]
 eye = [0.0, 0.0, 4.0]

@@ -7,7 +7,7 @@ use wrinkle::{render, Error, Result};
 
 #[derive(Args, Debug)]
 #[command(
-    after_help = "Examples:\n  wrinkle bench ../shared/canonical/sphere.toml --width 1920 --height 1080 --frames 20\n  wrinkle bench --spp 16 --frames 5"
+    after_help = "Examples:\n  wrinkle bench bench/canonical/sphere.toml --width 1920 --height 1080 --frames 20\n  wrinkle bench --spp 16 --frames 5"
 )]
 pub struct BenchArgs {
     /// Scene file (TOML); the embedded cover scene when omitted.

@@ -1,5 +1,6 @@
-//! Every example the project shows runs: the embedded default scene, the scenes in scenes/, and the complete
-//! example of docs/scene-format.md. Each renders small, and must show objects in front of the background.
+//! Every example the project shows runs: the embedded default scene, the scenes in scenes/, the canonical
+//! benchmark scene (bench/canonical) and the complete example of docs/scene-format.md. Each renders small,
+//! and must show objects in front of the background.
 
 use std::path::{Path, PathBuf};
 use wrinkle::bump::generators::{BrickParams, Generator};
@@ -36,6 +37,13 @@ fn example_scenes_render() {
         }
     }
     assert!(seen >= 4, "expected the example scenes of figures 5, 9 (twice) and 11, found {seen}");
+}
+
+#[test]
+fn the_canonical_benchmark_scene_renders() {
+    // bench/canonical.sh and BENCHMARKS.md time it; the sphere covers about 0.23 of the 16:9 frame.
+    let scene = Scene::load(&repo().join("bench/canonical/sphere.toml")).unwrap();
+    assert!(covered_share(&scene) > 0.15);
 }
 
 #[test]
