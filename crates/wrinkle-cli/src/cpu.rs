@@ -6,7 +6,7 @@
 //! All of it runs on a CPU that may lack AVX, where any vector move would be fatal, and an x86-64-v3 build
 //! moves even 16-byte values with AVX. So it runs from the C library's start-up list, before the standard
 //! library's own start-up and `main`, and works byte by byte (volatile, so that nothing is vectorised)
-//! with raw system calls. tests/portable.rs runs it on an emulated pre-AVX2 CPU.
+//! with raw system calls. tests/end_to_end/portable.rs runs it on an emulated pre-AVX2 CPU.
 
 /// The file name of the portable build, looked for beside this one.
 pub const PORTABLE: &str = "wrinkle-portable";

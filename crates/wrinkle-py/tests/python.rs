@@ -46,7 +46,9 @@ fn portable_module(target: &Path) -> Option<PathBuf> {
     let portable = target.join("portable");
     run(
         Command::new(std::env::var_os("CARGO").unwrap_or("cargo".into()))
-            .args(["build", "--release", "-p", "wrinkle-py", "--target-dir"])
+            // The CLI too, as scripts/build-portable.sh and the CLI's tests build them: one feature resolution,
+            // so whichever test runs second finds everything built.
+            .args(["build", "--release", "-p", "wrinkle-cli", "-p", "wrinkle-py", "--target-dir"])
             .arg(&portable)
             .env_remove("CARGO_ENCODED_RUSTFLAGS")
             .env("RUSTFLAGS", "-C target-cpu=x86-64"),

@@ -68,6 +68,16 @@ def test_a_cpu_without_avx2_loads_the_portable_module(tmp_path):
     assert_same_bits(native, old, exempt=FFT_BY_CPU)
 
 
+def test_the_wheel_and_the_build_script_name_the_module_the_package_loads(repo):
+    """One wheel carries both modules only where pyproject.toml's maturin `include` names the file that
+    scripts/build-portable.sh writes, under the name the package imports. (Building the wheel here would
+    compile the workspace again under another feature set: tried by hand, docs/python.md.)"""
+    module = "python/wrinkle/_wrinkle_portable.abi3.so"
+    assert f'path = "{module}", format = "wheel"' in (repo / "crates/wrinkle-py/pyproject.toml").read_text()
+    assert f"crates/wrinkle-py/{module}" in (repo / "scripts/build-portable.sh").read_text()
+    assert '"wrinkle._wrinkle_portable"' in (repo / "crates/wrinkle-py/python/wrinkle/_cpu.py").read_text()
+
+
 def test_a_wrong_build_name_is_refused():
     p = subprocess.run(
         [sys.executable, "-c", "import wrinkle"], env={**os.environ, "WRINKLE_BUILD": "avx512"}, capture_output=True,

@@ -6,7 +6,7 @@
 //! slides' MIP level d). At octave i the pixel spans s = width * f_i lattice cells; noise has most of its
 //! energy near half a cycle per cell, whose Nyquist limit is one sample per cell, so the octave's weight
 //! falls smoothly from 1 at s = 1/2 to 0 at s = 1. (Fading from 1/4 to 1/2 instead blurs more: on the
-//! grazing-plane test, tests/procedural_aliasing.rs, the RMS error against 256 spp is 0.039 instead of
+//! grazing-plane test, tests/integration/procedural_aliasing.rs, the RMS error against 256 spp is 0.039 instead of
 //! 0.034.) What a faded octave no longer adds is replaced by its mean (0 for noise, E|noise| for
 //! turbulence), so a distant surface keeps its average brightness.
 

@@ -1,9 +1,7 @@
 //! `wrinkle normalmap` output rendered as a tangent-space normal map looks like Blinn's bump mapping of
 //! the height map it came from, on a parametric sphere and on a triangle-mesh sphere (MikkTSpace tangents).
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use std::fmt::Write as _;
 use std::path::Path;
 use wrinkle::image::io::read_exr_channels;

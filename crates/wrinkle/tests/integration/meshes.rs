@@ -2,10 +2,8 @@
 //! without tangents (MikkTSpace), mirrored texture coordinates, node transforms, every loader path (glTF
 //! embedded, with a .bin, GLB; OBJ with its .mtl), and one clear error for every broken file.
 
-mod common;
-
-use common::gltf::{png_of, File, Layout, Primitive};
-use common::{angle_deg, d3, render_all_aovs, scratch_dir};
+use crate::common::gltf::{png_of, File, Layout, Primitive};
+use crate::common::{angle_deg, d3, render_all_aovs, scratch_dir};
 use glam::{DVec3, Vec3};
 use std::path::Path;
 use wrinkle::Scene;
@@ -219,7 +217,7 @@ fn primitive_aov_names_the_triangle_each_pixel_sees() {
     let (w, h) = (64, 48);
     let frame = render_all_aovs(text, &dir, w, h, 1);
     let ids = frame.primitive.as_ref().unwrap();
-    let camera = common::RefCamera::perspective([0.0, 0.0, 4.0], [0.0; 3], [0.0, 1.0, 0.0], 40.0, w, h);
+    let camera = crate::common::RefCamera::perspective([0.0, 0.0, 4.0], [0.0; 3], [0.0, 1.0, 0.0], 40.0, w, h);
     let (mut checked, mut background) = (0, 0);
     for j in 0..h {
         for i in 0..w {
@@ -227,8 +225,8 @@ fn primitive_aov_names_the_triangle_each_pixel_sees() {
             // Within a sphere a little smaller (its silhouette is tessellated), and beside one a little larger.
             let centre = DVec3::new(1.2, 1.0, 0.5);
             let (sphere, near_sphere) =
-                (common::ray_sphere(o, d, centre, 0.28), common::ray_sphere(o, d, centre, 0.32));
-            let plane = common::ray_plane(o, d, DVec3::ZERO, DVec3::Z);
+                (crate::common::ray_sphere(o, d, centre, 0.28), crate::common::ray_sphere(o, d, centre, 0.32));
+            let plane = crate::common::ray_plane(o, d, DVec3::ZERO, DVec3::Z);
             let got = ids[j * w + i];
             match (sphere, plane) {
                 (Some(_), _) => assert_eq!(got[0], 0, "pixel ({i}, {j}): the sphere"),

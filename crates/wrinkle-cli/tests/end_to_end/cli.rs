@@ -5,9 +5,7 @@
 //! file, field or value at fault; exit code 2 for a usage error (arguments, scene or input files),
 //! 1 for a failed job (the output cannot be written); no output or temporary file is left behind.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use std::collections::BTreeSet;
 use std::fs;
 use std::path::Path;

@@ -2,9 +2,7 @@
 //! PNG and BMP inputs written here, its output files read back, and the one-line errors of bad input with
 //! nothing left in the output folder.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use std::fs;
 use std::path::Path;
 

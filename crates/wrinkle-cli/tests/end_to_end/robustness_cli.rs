@@ -2,9 +2,7 @@
 //! through the built binary. Each asserts the exit code, the one-line error naming what is wrong, and what
 //! is (or is not) left in the output folder.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use std::fs;
 use std::os::unix::fs::symlink;
 use std::path::Path;

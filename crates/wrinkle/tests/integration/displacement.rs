@@ -3,9 +3,7 @@
 //! point is on the equator). Every pixel centre farther than the tolerance from that curve must be covered
 //! exactly when it lies inside it.
 
-mod common;
-
-use common::scratch_dir;
+use crate::common::scratch_dir;
 use std::f64::consts::TAU;
 use std::path::Path;
 
@@ -66,7 +64,7 @@ fn outline_errors(
 }
 
 fn ids(scene: &str, dir: &Path) -> Vec<f32> {
-    common::render_all_aovs(scene, dir, SIDE, SIDE, 1).id.expect("id AOV")
+    crate::common::render_all_aovs(scene, dir, SIDE, SIDE, 1).id.expect("id AOV")
 }
 
 /// A constant height h grows the outline to radius r + h, within a quarter pixel.

@@ -2,11 +2,9 @@
 //! intersections through an f64 camera written from the scene format's definition, and the exact
 //! outline (convex hull of the projected vertices) of the tessellated geometry.
 //!
-//! Run with `cargo test --release -p wrinkle --test raster_reference -- --nocapture` to see the measured figures.
+//! Run with `cargo test --release -p wrinkle --test integration raster_reference -- --nocapture` to see the measured figures.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use glam::{Affine3A, DVec3, Quat, Vec3};
 use std::path::Path;
 use wrinkle::geometry::tessellate::{grid, Mesh};

@@ -3,9 +3,7 @@
 //! through the alpha test's cutoff), the alpha test showing exactly what lies behind, and the coverage of a
 //! cut edge at 16 samples per pixel against the analytic area.
 
-mod common;
-
-use common::scratch_dir;
+use crate::common::scratch_dir;
 use std::path::Path;
 use wrinkle::image::io::write_png_rgba8;
 use wrinkle::render::Aovs;
@@ -456,13 +454,14 @@ fn parallax_reads_where_the_ray_meets_the_height_field() {
              [[light]]\ntype = \"ambient\"\n\n[[object]]\nshape = \"patch\"\n\
              corners = [[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]]\n\
              [object.material]\ntexture = \"c.png\"\n[object.material.bump]\nmap = \"h.png\"\nscale = {h:?}\n{parallax}\n",
-            common::arr(eye)
+            crate::common::arr(eye)
         )
     };
     let size = 32;
-    let shifted = common::render_all_aovs(&scene(&format!("parallax = {{ steps = {steps} }}")), &dir, size, size, 1);
-    let flat = common::render_all_aovs(&scene(""), &dir, size, size, 1);
-    let camera = common::RefCamera::orthographic(eye, [0.0; 3], [0.0, 1.0, 0.0], 1.0, size, size);
+    let shifted =
+        crate::common::render_all_aovs(&scene(&format!("parallax = {{ steps = {steps} }}")), &dir, size, size, 1);
+    let flat = crate::common::render_all_aovs(&scene(""), &dir, size, size, 1);
+    let camera = crate::common::RefCamera::orthographic(eye, [0.0; 3], [0.0, 1.0, 0.0], 1.0, size, size);
     // Along the ray, each unit of depth below the patch moves u by -tan(60) / 2 (u = (x + 1) / 2).
     let du_per_depth = -angle.tan() / 2.0;
     let one_step = du_per_depth.abs() * h / steps as f64;
@@ -470,7 +469,7 @@ fn parallax_reads_where_the_ray_meets_the_height_field() {
     for py in 0..size {
         for px in 0..size {
             let (o, d) = camera.pixel_ray(px, py);
-            let t = common::ray_plane(o, d, glam::DVec3::ZERO, glam::DVec3::Z).unwrap();
+            let t = crate::common::ray_plane(o, d, glam::DVec3::ZERO, glam::DVec3::Z).unwrap();
             let u0 = (o.x + t * d.x + 1.0) / 2.0;
             let uv_flat = flat.uv.as_ref().unwrap()[py * size + px];
             assert!((uv_flat[0] as f64 - u0).abs() < 1e-4, "without parallax the ray meets the patch");
@@ -521,7 +520,7 @@ fn depth_replace_lets_objects_show_in_the_carved_field() {
     };
     let size = 64;
     for replace in [true, false] {
-        let frame = common::render_all_aovs(&scene(replace), &dir, size, size, 1);
+        let frame = crate::common::render_all_aovs(&scene(replace), &dir, size, size, 1);
         let (ids, depth) = (frame.id.as_ref().unwrap(), frame.depth.as_ref().unwrap());
         let mut checked = 0;
         for py in 0..size {

@@ -3,9 +3,7 @@
 //! about their axis towards the eye. Checked from the rendered AOVs: the normal (exact for a flat patch)
 //! within 1e-4, and the billboard's up, fitted from the pixels' (u,v) and world positions, within 1e-3.
 
-mod common;
-
-use common::RefCamera;
+use crate::common::RefCamera;
 use glam::{DMat3, DVec3};
 use wrinkle::render::Aovs;
 use wrinkle::{RenderOptions, Scene};

@@ -3,9 +3,7 @@
 //! black, between the two cones the smoothstep; a projected slide tints each pixel by the texel the
 //! light's ray passes through.
 
-mod common;
-
-use common::scratch_dir;
+use crate::common::scratch_dir;
 use wrinkle::image::io::write_png_rgb8;
 use wrinkle::{RenderOptions, Scene};
 

@@ -3,9 +3,7 @@
 //! coordinates, and the footprints from dP/dx and dP/dy that the filters read (at a grazing angle, where a
 //! wrong footprint blurs or aliases visibly), and for bump maps the chain rule's Jacobian.
 
-mod common;
-
-use common::{render_all_aovs, scratch_dir};
+use crate::common::{render_all_aovs, scratch_dir};
 use glam::DVec3;
 use std::path::Path;
 
@@ -156,7 +154,7 @@ fn affine_interpolation_is_off_the_ray_and_perspective_is_not() {
         )
     };
     let (w, h) = (64, 48);
-    let camera = common::RefCamera::perspective([0.0, 0.6, 3.0], [0.0; 3], [0.0, 1.0, 0.0], 40.0, w, h);
+    let camera = crate::common::RefCamera::perspective([0.0, 0.6, 3.0], [0.0; 3], [0.0, 1.0, 0.0], 40.0, w, h);
     let error = |interp: &str| {
         let frame = render_all_aovs(&scene(&object(interp)), &dir, w, h, 1);
         let uv = frame.uv.as_ref().unwrap();
@@ -164,8 +162,8 @@ fn affine_interpolation_is_off_the_ray_and_perspective_is_not() {
         for j in 0..h {
             for i in 0..w {
                 let (o, d) = camera.pixel_ray(i, j);
-                let Some(t) = common::ray_plane(o, d, p00, DVec3::Y) else { continue };
-                let (u, v) = common::parallelogram_uv(o + t * d, p00, e1, e2);
+                let Some(t) = crate::common::ray_plane(o, d, p00, DVec3::Y) else { continue };
+                let (u, v) = crate::common::parallelogram_uv(o + t * d, p00, e1, e2);
                 if !(0.02..0.98).contains(&u) || !(0.02..0.98).contains(&v) || !uv[j * w + i][0].is_finite() {
                     continue;
                 }

@@ -2,11 +2,9 @@
 //! the exact normal of the displaced surface P + F N/|N| written out analytically or by f64 finite
 //! differences in this file, and the paper's own statements about scale.
 //!
-//! Run with `cargo test --release -p wrinkle --test bump_reference -- --nocapture` to see the measured figures.
+//! Run with `cargo test --release -p wrinkle --test integration bump_reference -- --nocapture` to see the measured figures.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use glam::DVec3;
 use std::f64::consts::TAU;
 use std::path::Path;

@@ -2,9 +2,7 @@
 //! bytes as the default x86-64-v3 build, and on a CPU without AVX2 (qemu-user emulating a Westmere) the
 //! default build hands the command over to it, or says what is missing, instead of dying of SIGILL.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -22,7 +20,9 @@ fn portable() -> &'static Path {
         let default = Path::new(env!("CARGO_BIN_EXE_wrinkle"));
         let target = default.parent().and_then(Path::parent).expect("target/<profile>/wrinkle");
         let status = Command::new(std::env::var_os("CARGO").unwrap_or("cargo".into()))
-            .args(["build", "--release", "-p", "wrinkle-cli", "--target-dir"])
+            // Both front ends in one build, as scripts/build-portable.sh and the Python tests build them: one
+            // feature resolution, so whichever test runs second finds everything built.
+            .args(["build", "--release", "-p", "wrinkle-cli", "-p", "wrinkle-py", "--target-dir"])
             .arg(target.join("portable"))
             .env_remove("CARGO_ENCODED_RUSTFLAGS")
             .env("RUSTFLAGS", "-C target-cpu=x86-64")

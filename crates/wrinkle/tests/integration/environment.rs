@@ -3,9 +3,7 @@
 //! mirrored about the bumped normal when it is bump-mapped; the background is the environment along the
 //! camera's rays; the four layouts render alike; bad maps are refused in one line.
 
-mod common;
-
-use common::{scratch_dir, RefCamera};
+use crate::common::{scratch_dir, RefCamera};
 use glam::{DVec3, Vec3};
 use std::path::Path;
 use wrinkle::envmap::convert::{convert, picture};

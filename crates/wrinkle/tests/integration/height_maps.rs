@@ -2,9 +2,7 @@
 //! tables with their stored values, the renderer's own depth AOV among them (Blinn's Z-buffer bumps), and
 //! data maps are never sRGB-decoded.
 
-mod common;
-
-use common::{render_all_aovs, scratch_dir};
+use crate::common::{render_all_aovs, scratch_dir};
 use std::path::Path;
 use wrinkle::image::io::{load_grey, write_exr, write_png_grey16};
 use wrinkle::image::Image;
