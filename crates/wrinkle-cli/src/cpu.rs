@@ -8,12 +8,8 @@
 //! library's own start-up and `main`, and works byte by byte (volatile, so that nothing is vectorised)
 //! with raw system calls. tests/end_to_end/portable.rs runs it on an emulated pre-AVX2 CPU.
 
-/// The file name of the portable build, looked for beside this one.
-pub const PORTABLE: &str = "wrinkle-portable";
-
 #[cfg(all(target_os = "linux", target_env = "gnu", target_arch = "x86_64"))]
 mod hand_over {
-    use super::PORTABLE;
     use std::ffi::c_char;
     use std::ptr::{read_volatile, write_volatile};
 
@@ -21,6 +17,9 @@ mod hand_over {
     #[used]
     #[link_section = ".init_array"]
     static START: extern "C" fn(i32, *const *const c_char, *const *const c_char) = start;
+
+    /// The file name of the portable build, looked for beside this one.
+    const PORTABLE: &str = "wrinkle-portable";
 
     const SYS_WRITE: usize = 1;
     const SYS_EXECVE: usize = 59;
