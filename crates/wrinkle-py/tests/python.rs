@@ -37,24 +37,13 @@ fn venv(target: &Path, crate_dir: &Path) -> PathBuf {
     python
 }
 
-/// The extension module built for baseline x86-64 as scripts/build-portable.sh builds it (its own target
-/// folder, RUSTFLAGS replacing .cargo/config.toml's x86-64-v3), or None off x86-64.
+#[path = "../../wrinkle-cli/tests/end_to_end/portable_build.rs"]
+mod portable_build;
+
+/// The extension module built for baseline x86-64 (with the CLI, as the CLI's tests build them), or None off
+/// x86-64.
 fn portable_module(target: &Path) -> Option<PathBuf> {
-    if !cfg!(target_arch = "x86_64") {
-        return None;
-    }
-    let portable = target.join("portable");
-    run(
-        Command::new(std::env::var_os("CARGO").unwrap_or("cargo".into()))
-            // The CLI too, as scripts/build-portable.sh and the CLI's tests build them: one feature resolution,
-            // so whichever test runs second finds everything built.
-            .args(["build", "--release", "-p", "wrinkle-cli", "-p", "wrinkle-py", "--target-dir"])
-            .arg(&portable)
-            .env_remove("CARGO_ENCODED_RUSTFLAGS")
-            .env("RUSTFLAGS", "-C target-cpu=x86-64"),
-        "the portable build of the extension module",
-    );
-    Some(portable.join("release/lib_wrinkle.so"))
+    cfg!(target_arch = "x86_64").then(|| portable_build::build_portable(target).join("lib_wrinkle.so"))
 }
 
 /// Copies the Python files of the folder `from` into `to`.

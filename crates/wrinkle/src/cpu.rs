@@ -2,8 +2,11 @@
 //! x86-64-v3 (AVX2, FMA, BMI2; .cargo/config.toml); the portable build (scripts/build-portable.sh) baseline
 //! x86-64. Both give the same bits (lanes::math); the front ends start the portable one on an older CPU.
 
+/// Whether the code was compiled for x86-64-v3 (the default build on x86-64).
+const BUILT_FOR_X86_64_V3: bool = cfg!(all(target_arch = "x86_64", target_feature = "avx2"));
+
 /// The instruction set the code was compiled for: "x86-64-v3", "x86-64" or the architecture's name.
-pub const BUILD_LEVEL: &str = if cfg!(all(target_arch = "x86_64", target_feature = "avx2")) {
+pub const BUILD_LEVEL: &str = if BUILT_FOR_X86_64_V3 {
     "x86-64-v3"
 } else if cfg!(target_arch = "x86_64") {
     "x86-64"
@@ -52,7 +55,7 @@ pub fn runs_x86_64_v3() -> bool {
 /// its architecture does.
 #[inline(never)]
 pub fn build_runs_here() -> bool {
-    BUILD_LEVEL != "x86-64-v3" || runs_x86_64_v3()
+    !BUILT_FOR_X86_64_V3 || runs_x86_64_v3()
 }
 
 #[cfg(test)]

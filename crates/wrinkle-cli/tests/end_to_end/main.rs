@@ -7,4 +7,5 @@ mod cli;
 mod emboss_cli;
 mod normal_maps_cli;
 mod portable;
+mod portable_build;
 mod robustness_cli;

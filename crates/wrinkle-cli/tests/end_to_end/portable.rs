@@ -3,6 +3,7 @@
 //! default build hands the command over to it, or says what is missing, instead of dying of SIGILL.
 
 use crate::common::*;
+use crate::portable_build::build_portable;
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -19,17 +20,7 @@ fn portable() -> &'static Path {
     BUILT.get_or_init(|| {
         let default = Path::new(env!("CARGO_BIN_EXE_wrinkle"));
         let target = default.parent().and_then(Path::parent).expect("target/<profile>/wrinkle");
-        let status = Command::new(std::env::var_os("CARGO").unwrap_or("cargo".into()))
-            // Both front ends in one build, as scripts/build-portable.sh and the Python tests build them: one
-            // feature resolution, so whichever test runs second finds everything built.
-            .args(["build", "--release", "-p", "wrinkle-cli", "-p", "wrinkle-py", "--target-dir"])
-            .arg(target.join("portable"))
-            .env_remove("CARGO_ENCODED_RUSTFLAGS")
-            .env("RUSTFLAGS", "-C target-cpu=x86-64")
-            .status()
-            .expect("cargo");
-        assert!(status.success(), "the portable build failed");
-        target.join("portable/release/wrinkle")
+        build_portable(target).join("wrinkle")
     })
 }
 
