@@ -3,20 +3,15 @@
 //! and the time to build the MIP pyramid.
 
 use clap::Args;
-use glam::{Vec2, Vec3, Vec4};
+use glam::{Vec2, Vec4};
 use rayon::prelude::*;
 use std::hint::black_box;
 use std::time::Instant;
 use wrinkle::image::color::srgb8_decode_table;
-use wrinkle::image::Image;
-use wrinkle::lanes::{F8, LANES, V3};
-use wrinkle::texture::mip::build_levels;
-use wrinkle::texture::texel::Plane;
-use wrinkle::texture::{
-    Filter, FilterOptions, FilteredTexture, Footprint, Footprint8, LookupContext8, MipFilter, SurfaceLanes, Texture,
-    TextureOptions, Wrap,
+use wrinkle::texture::mip::pyramid;
+use wrinkle::{
+    Error, Filter, FilterOptions, FilteredTexture, Footprint, Image, MipFilter, Result, TextureOptions, Wrap,
 };
-use wrinkle::{Error, Result};
 
 #[derive(Args, Debug)]
 #[command(
@@ -40,10 +35,18 @@ pub struct BenchTextureArgs {
     pub threads: Option<usize>,
 }
 
-/// One lookup: where and how large.
-struct Lookup {
-    st: Vec2,
-    fp: Footprint,
+/// The lookups of one run: where and how large.
+#[derive(Default)]
+struct Lookups {
+    st: Vec<Vec2>,
+    fp: Vec<Footprint>,
+}
+
+impl Lookups {
+    fn push(&mut self, st: Vec2, fp: Footprint) {
+        self.st.push(st);
+        self.fp.push(fp);
+    }
 }
 
 /// A small xorshift generator: the same sets on every run.
@@ -70,23 +73,22 @@ fn width(rng: &mut Rng) -> f32 {
 }
 
 /// `n` lookups at random (s, t), or walking along rows one footprint width apart (as a render reads).
-fn lookups(n: usize, ratio: f32, scanline: bool) -> Vec<Lookup> {
+fn lookups(n: usize, ratio: f32, scanline: bool) -> Lookups {
     let mut rng = Rng(0x9E37_79B9_7F4A_7C15 ^ (ratio as u64) ^ (scanline as u64) << 8);
+    let mut out = Lookups::default();
     if !scanline {
-        return (0..n)
-            .map(|_| Lookup {
-                st: Vec2::new(rng.next(), rng.next()),
-                fp: footprint(width(&mut rng), ratio, rng.next() * std::f32::consts::TAU),
-            })
-            .collect();
+        for _ in 0..n {
+            let st = Vec2::new(rng.next(), rng.next());
+            out.push(st, footprint(width(&mut rng), ratio, rng.next() * std::f32::consts::TAU));
+        }
+        return out;
     }
-    let mut out = Vec::with_capacity(n);
-    while out.len() < n {
+    while out.st.len() < n {
         // One row of 256 lookups: one width and angle, the start anywhere.
         let (w, angle) = (width(&mut rng), rng.next() * std::f32::consts::TAU);
         let start = Vec2::new(rng.next(), rng.next());
-        for k in 0..256.min(n - out.len()) {
-            out.push(Lookup { st: start + Vec2::new(k as f32 * w, 0.0), fp: footprint(w, ratio, angle) });
+        for k in 0..256.min(n - out.st.len()) {
+            out.push(start + Vec2::new(k as f32 * w, 0.0), footprint(w, ratio, angle));
         }
     }
     out
@@ -106,46 +108,53 @@ fn thread_cpu_s() -> Option<f64> {
 
 /// Million lookups per second, on this thread or on every worker: (per wall-clock second, per CPU second of
 /// this thread when on one thread).
-fn rate(tex: &FilteredTexture, set: &[Lookup], parallel: bool, rounds: usize) -> (f64, Option<f64>) {
-    let run = |chunk: &[Lookup]| chunk.iter().fold(Vec4::ZERO, |acc, l| acc + tex.lookup(l.st.x, l.st.y, &l.fp));
+fn rate(tex: &FilteredTexture, set: &Lookups, parallel: bool, rounds: usize) -> (f64, Option<f64>) {
+    let run =
+        |st: &[Vec2], fp: &[Footprint]| st.iter().zip(fp).fold(Vec4::ZERO, |acc, (p, f)| acc + tex.lookup(p.x, p.y, f));
     timed(set, parallel, rounds, run)
 }
 
-/// The same in packets of eight through `Texture::eval8`, as the renderer's packet shader calls it.
-fn rate8(tex: &FilteredTexture, set: &[Lookup], parallel: bool, rounds: usize) -> (f64, Option<f64>) {
-    let run = |chunk: &[Lookup]| {
-        chunk.chunks_exact(LANES).fold(Vec4::ZERO, |acc, p| {
-            let lane = |f: fn(&Lookup) -> f32| F8::new(std::array::from_fn(|i| f(&p[i])));
-            let footprints = Footprint8::from_lanes(&std::array::from_fn(|i| p[i].fp));
-            let z = V3::splat(Vec3::ZERO);
-            let uv = (lane(|l| l.st.x), lane(|l| l.st.y));
-            let surface = SurfaceLanes::new(z, z, z, &footprints, 0, [0; LANES]);
-            let ctx = LookupContext8 { surface: &surface, u: uv.0, v: uv.1, footprint: footprints };
-            let [r, g, b, a] = tex.eval8(&ctx);
-            acc + Vec4::new(r.reduce_add(), g.reduce_add(), b.reduce_add(), a.reduce_add())
-        })
+/// The same through `FilteredTexture::lookup_batch`: packets of eight, as the renderer's packet shader
+/// looks textures up.
+fn rate8(tex: &FilteredTexture, set: &Lookups, parallel: bool, rounds: usize) -> (f64, Option<f64>) {
+    let run = |st: &[Vec2], fp: &[Footprint]| {
+        let mut out = [Vec4::ZERO; CHUNK];
+        tex.lookup_batch(st, fp, &mut out[..st.len()]);
+        out.iter().sum()
     };
     timed(set, parallel, rounds, run)
 }
 
-/// Times `run` over the set, on this thread or on every worker in chunks.
+/// Lookups per call of a timed closure (and per parallel task).
+const CHUNK: usize = 4096;
+
+/// Times `run` over the set in chunks, on this thread or on every worker.
 fn timed(
-    set: &[Lookup],
+    set: &Lookups,
     parallel: bool,
     rounds: usize,
-    run: impl Fn(&[Lookup]) -> Vec4 + Sync + Send,
+    run: impl Fn(&[Vec2], &[Footprint]) -> Vec4 + Sync + Send,
 ) -> (f64, Option<f64>) {
+    let chunks = || set.st.chunks(CHUNK).zip(set.fp.chunks(CHUNK));
     let (mut wall, mut cpu) = (Vec::new(), Vec::new());
     for _ in 0..rounds {
         let (t, c) = (Instant::now(), thread_cpu_s());
-        let sum = if parallel { set.par_chunks(4096).map(&run).reduce(|| Vec4::ZERO, |a, b| a + b) } else { run(set) };
+        let sum = if parallel {
+            set.st
+                .par_chunks(CHUNK)
+                .zip(set.fp.par_chunks(CHUNK))
+                .map(|(s, f)| run(s, f))
+                .reduce(|| Vec4::ZERO, |a, b| a + b)
+        } else {
+            chunks().map(|(s, f)| run(s, f)).sum()
+        };
         black_box(sum);
         wall.push(t.elapsed().as_secs_f64());
         if let (Some(c0), Some(c1)) = (c, thread_cpu_s()) {
             cpu.push(c1 - c0);
         }
     }
-    let per_s = |v: Vec<f64>| set.len() as f64 / median(v) / 1e6;
+    let per_s = |v: Vec<f64>| set.st.len() as f64 / median(v) / 1e6;
     (per_s(wall), (!parallel && cpu.len() == rounds).then(|| per_s(cpu)))
 }
 
@@ -175,28 +184,25 @@ pub fn run(args: &BenchTextureArgs) -> Result<()> {
     let mut rng = Rng(7);
     let bytes: Vec<[u8; 4]> = (0..n * n).map(|_| [0, 1, 2, 3].map(|_| (rng.next() * 255.0) as u8)).collect();
     let image = Image { width: n, height: n, pixels: bytes };
-    // The pyramid alone: every level from the decoded full-resolution texture, in linear light.
+    // The pyramid alone: every level from the decoded full-resolution texture, in linear light, as images.
     let decode = srgb8_decode_table();
-    let base = Plane::from_top_rows(
-        n,
-        n,
-        &image
+    let linear = Image {
+        width: n,
+        height: n,
+        pixels: image
             .pixels
             .iter()
-            .map(|p| {
-                Vec4::new(decode[p[0] as usize], decode[p[1] as usize], decode[p[2] as usize], p[3] as f32 / 255.0)
-            })
-            .collect::<Vec<_>>(),
-    );
+            .map(|p| [decode[p[0] as usize], decode[p[1] as usize], decode[p[2] as usize], p[3] as f32 / 255.0])
+            .collect(),
+    };
     let builds: Vec<f64> = (0..args.rounds)
         .map(|_| {
-            let b = base.clone();
             let t = Instant::now();
-            black_box(build_levels(b, MipFilter::Box, [Wrap::Repeat; 2]));
+            black_box(pyramid(&linear, MipFilter::Box, [Wrap::Repeat; 2]));
             t.elapsed().as_secs_f64() * 1e3
         })
         .collect();
-    drop(base);
+    drop(linear);
     // The whole texture as a scene loads it: decode, pyramid, levels stored in 8 bits.
     let t = Instant::now();
     let texture = FilteredTexture::from_rgba8(&image, true, TextureOptions::default());

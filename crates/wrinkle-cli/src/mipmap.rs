@@ -3,17 +3,14 @@
 
 use crate::output::require_extension;
 use clap::Args;
-use glam::Vec4;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use wrinkle::image::color::SrgbEncoder;
 use wrinkle::image::io;
 use wrinkle::image::output::OutputSet;
 use wrinkle::limits;
-use wrinkle::texture::mip::{build_levels, half};
-use wrinkle::texture::texel::Plane;
-use wrinkle::texture::{MipFilter, Wrap};
-use wrinkle::{Error, Result};
+use wrinkle::texture::mip::{half, pyramid};
+use wrinkle::{Error, Image, MipFilter, Result, Wrap};
 
 #[derive(Args, Debug)]
 #[command(
@@ -45,9 +42,10 @@ pub fn run(args: &MipmapArgs) -> Result<()> {
     let wrap = Wrap::parse(&args.wrap).expect("clap checked the name");
     let image = io::load_rgba_linear(&args.input, !args.linear)?;
     let (w, h) = (image.width, image.height);
-    // The float pyramid (4/3 of the base), and the largest 8-bit image written (the atlas, 3/2 the base).
+    // The float image, its pyramid (4/3 of it) and a level's copy while the pyramid is made into images, and
+    // the largest 8-bit image written (the atlas, 3/2 the base).
     let pixels = (w * h) as u64;
-    limits::reserve(pixels * 16 * 4 / 3 + pixels * 4 * 3 / 2, || {
+    limits::reserve(pixels * 16 * 10 / 3 + pixels * 4 * 3 / 2, || {
         format!("{}: a MIP pyramid of {w}x{h}", args.input.display())
     })?;
     if !args.levels {
@@ -57,9 +55,8 @@ pub fn run(args: &MipmapArgs) -> Result<()> {
         })?;
     }
     let t = Instant::now();
-    let base = Plane::from_top_rows_with(w, h, &image.pixels, Vec4::from);
+    let levels = pyramid(&image, filter, [wrap; 2]);
     drop(image);
-    let levels = build_levels(base, filter, [wrap; 2]);
     let ms = t.elapsed().as_secs_f64() * 1e3;
     let encode = Encoder { srgb: !args.linear, table: SrgbEncoder::new() };
     if args.levels {
@@ -92,15 +89,15 @@ struct Encoder {
 }
 
 impl Encoder {
-    fn texel(&self, v: Vec4) -> [u8; 4] {
+    fn texel(&self, [r, g, b, a]: [f32; 4]) -> [u8; 4] {
         let scale = |x: f32| (x.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
         let c = |x: f32| if self.srgb { self.table.encode(x) } else { scale(x) };
-        [c(v.x), c(v.y), c(v.z), scale(v.w)]
+        [c(r), c(g), c(b), scale(a)]
     }
 
     /// A level as RGBA bytes, row 0 at the top.
-    fn plane(&self, level: &Plane<Vec4>) -> Vec<u8> {
-        (0..level.height).rev().flat_map(|j| level.row(j).iter().flat_map(|&v| self.texel(v))).collect()
+    fn plane(&self, level: &Image<[f32; 4]>) -> Vec<u8> {
+        level.pixels.iter().flat_map(|&v| self.texel(v)).collect()
     }
 }
 
@@ -115,11 +112,11 @@ fn atlas_size(w: usize, h: usize) -> (usize, usize) {
 }
 
 /// Level 0 on the left, the other levels stacked top to bottom to its right; transparent elsewhere.
-fn atlas(levels: &[Plane<Vec4>], encode: &Encoder) -> (usize, usize, Vec<u8>) {
+fn atlas(levels: &[Image<[f32; 4]>], encode: &Encoder) -> (usize, usize, Vec<u8>) {
     let (w, h) = atlas_size(levels[0].width, levels[0].height);
     let w0 = levels[0].width;
     let mut bytes = vec![0u8; w * h * 4];
-    let mut place = |level: &Plane<Vec4>, x0: usize, y0: usize| {
+    let mut place = |level: &Image<[f32; 4]>, x0: usize, y0: usize| {
         let rgba = encode.plane(level);
         for y in 0..level.height {
             let src = &rgba[y * level.width * 4..(y + 1) * level.width * 4];

@@ -1,32 +1,21 @@
 //! A filtered colour texture over arrays of lookups: every filter of the course by name.
 
-use crate::arrays::{output, shape, slice};
+use crate::arrays::{flatten, output, shape, slice};
 use crate::errors::invalid;
 use glam::Vec4;
 use numpy::{PyArrayDyn, PyReadonlyArrayDyn};
 use pyo3::prelude::*;
 use rayon::prelude::*;
-use wrinkle::image::color::decode_rgba8;
-use wrinkle::image::Image;
-use wrinkle::texture::mip::build_levels;
-use wrinkle::texture::texel::Plane;
-use wrinkle::texture::{Filter, FilterOptions, FilteredTexture, Footprint, MipFilter, TextureOptions, Wrap};
+use wrinkle::{Filter, FilterOptions, FilteredTexture, Footprint, ImageRef, MipFilter, TextureOptions, Wrap};
 
 /// Lookups below this many run on the calling thread, the GIL held: a thread hand-off costs more.
 const PARALLEL_FROM: usize = 16384;
 /// Lookups per parallel task.
 const CHUNK: usize = 4096;
 
-/// Where the texels came from: kept to hand out the MIP pyramid in float.
-enum Source {
-    Bytes(Image<[u8; 4]>, bool),
-    Float(Image<[f32; 4]>),
-}
-
 #[pyclass(frozen, module = "wrinkle._wrinkle")]
 pub struct Texture {
     texture: FilteredTexture,
-    source: Source,
 }
 
 fn parse<T: Copy>(what: &str, name: &str, names: &[(&str, T)]) -> PyResult<T> {
@@ -45,6 +34,14 @@ fn filter_options(name: &str, max_aniso: f32) -> PyResult<FilterOptions> {
         return Err(invalid(format!("max_aniso: expected a number from 1 to 64, got {max_aniso}")));
     }
     Ok(FilterOptions { filter: filter(name)?, max_aniso, ..FilterOptions::default() })
+}
+
+/// An (H, W, 4) array as a view of RGBA pixels, checked for a size the core can hold.
+fn view<'a, T: numpy::Element>(a: &'a PyReadonlyArrayDyn<'_, T>) -> PyResult<ImageRef<'a, [T; 4]>> {
+    let s = shape("pixels", a, &[None, None, Some(4)])?;
+    wrinkle::image::io::check_size(s[1], s[0]).map_err(|m| invalid(format!("pixels: {m}")))?;
+    let (pixels, _) = slice("pixels", a)?.as_chunks::<4>();
+    ImageRef::new(s[1], s[0], pixels).map_err(|e| invalid(format!("pixels: {e}")))
 }
 
 #[pymethods]
@@ -70,42 +67,28 @@ impl Texture {
             mip_filter: parse("mip_filter", mip_filter, &MipFilter::NAMES)?,
             filter: filter_options(filter, max_aniso)?,
         };
-        let source = match (rgba8, rgba) {
+        // The texture reads the array in place (a view of its buffer), without a copy into an image.
+        let texture = match (rgba8, rgba) {
             (Some(a), None) => {
-                let s = shape("pixels", &a, &[None, None, Some(4)])?;
-                let pixels = slice("pixels", &a)?.chunks_exact(4).map(|p| [p[0], p[1], p[2], p[3]]).collect();
-                Source::Bytes(Image { width: s[1], height: s[0], pixels }, srgb)
+                let image = view(&a)?;
+                py.detach(|| FilteredTexture::from_rgba8(image, srgb, options))
             }
             (None, Some(a)) => {
-                let s = shape("pixels", &a, &[None, None, Some(4)])?;
-                let values = slice("pixels", &a)?;
-                if values.iter().any(|v| !v.is_finite()) {
+                let image = view(&a)?;
+                if image.pixels().as_flattened().iter().any(|v| !v.is_finite()) {
                     return Err(invalid("pixels: NaN or infinite values"));
                 }
-                let pixels = values.chunks_exact(4).map(|p| [p[0], p[1], p[2], p[3]]).collect();
-                Source::Float(Image { width: s[1], height: s[0], pixels })
+                py.detach(|| FilteredTexture::new(image, options))
             }
             _ => return Err(invalid("give the pixels as uint8 or float32")),
         };
-        let (w, h) = match &source {
-            Source::Bytes(i, _) => (i.width, i.height),
-            Source::Float(i) => (i.width, i.height),
-        };
-        wrinkle::image::io::check_size(w, h).map_err(|m| invalid(format!("pixels: {m}")))?;
-        let texture = py.detach(|| match &source {
-            Source::Bytes(image, srgb) => FilteredTexture::from_rgba8(image, *srgb, options),
-            Source::Float(image) => FilteredTexture::new(image, options),
-        });
-        Ok(Texture { texture, source })
+        Ok(Texture { texture })
     }
 
     /// (width, height) in texels.
     #[getter]
     fn size(&self) -> (usize, usize) {
-        match &self.source {
-            Source::Bytes(i, _) => (i.width, i.height),
-            Source::Float(i) => (i.width, i.height),
-        }
+        self.texture.size()
     }
 
     /// The filtered texture at each (s, t) of `uv` (N, 2), one period per unit, t up the image, with the
@@ -182,21 +165,7 @@ impl Texture {
 
     /// The MIP pyramid in linear light, level 0 first, each (H, W, 4) float32 (row 0 at the top).
     fn mipmap<'py>(&self, py: Python<'py>) -> Vec<Bound<'py, PyArrayDyn<f32>>> {
-        let options = self.texture.options();
-        let levels = py.detach(|| {
-            let (w, h, linear) = match &self.source {
-                Source::Bytes(i, srgb) => (i.width, i.height, decode_rgba8(&i.pixels, *srgb)),
-                Source::Float(i) => (i.width, i.height, i.pixels.clone()),
-            };
-            let base = Plane::from_top_rows_with(w, h, &linear, Vec4::from);
-            build_levels(base, options.mip_filter, options.wrap)
-        });
-        levels
-            .into_iter()
-            .map(|l| {
-                let rows = (0..l.height).rev().flat_map(|j| &l.texels[j * l.width..(j + 1) * l.width]);
-                output(py, &[l.height, l.width, 4], rows.flat_map(|t| t.to_array()).collect())
-            })
-            .collect()
+        let levels = py.detach(|| self.texture.pyramid());
+        levels.into_iter().map(|l| output(py, &[l.height, l.width, 4], flatten(l.pixels))).collect()
     }
 }

@@ -7,9 +7,11 @@
 
 use super::table::BumpTable;
 use super::{BumpFormula, Gradient};
+use crate::error::{Error, Result};
 use crate::lanes::F8;
 use crate::mapping::Mapping;
 use crate::procedural::solid::{Procedural, Space};
+use crate::texture::reconstruct::Kernel;
 use crate::texture::{Filter, FilterOptions, FilteredTexture, LookupContext, LookupContext8};
 use glam::{Vec2, Vec3};
 use std::sync::Arc;
@@ -48,6 +50,22 @@ pub fn filter_choices() -> Vec<(&'static str, Option<Filter>)> {
 }
 
 impl BumpMap {
+    /// F = `scale` * the source on the surface's own (u,v), Blinn's formula, a table read bilinearly at full
+    /// resolution (his FVAL), no parallax: a scene's defaults; set the public fields to change them.
+    pub fn new(source: BumpSource, scale: f32) -> Result<BumpMap> {
+        if !scale.is_finite() {
+            return Err(Error::parameter("scale", format!("must be finite, got {scale}")));
+        }
+        Ok(BumpMap {
+            source,
+            scale,
+            mapping: Mapping::default(),
+            formula: BumpFormula::Blinn,
+            filter: FilterOptions { filter: Filter::Reconstruct(Kernel::Bilinear), ..FilterOptions::default() },
+            parallax: None,
+        })
+    }
+
     /// scale times the mapping's Jacobian columns `jacobian`: F's derivatives along u and v are
     /// Fs k_u.x + Ft k_u.y and Fs k_v.x + Ft k_v.y. The scale is folded in first, so a plain repeat r gives
     /// (scale r) Fs exactly.

@@ -5,7 +5,7 @@ pub mod chart;
 pub mod convert;
 pub mod cube;
 pub mod files;
-pub mod lobe;
+pub(crate) mod lobe;
 
 pub use chart::{ChartPoint, Face, Layout};
 pub use cube::Arrangement;

@@ -3,13 +3,13 @@
 //! lands in each pixel.
 
 pub mod billboard;
-pub mod dice;
-pub mod frame_lanes;
+pub(crate) mod dice;
+pub(crate) mod frame_lanes;
 pub mod mesh;
-pub mod mesh_lanes;
+pub(crate) mod mesh_lanes;
 pub mod shape;
 pub mod surface;
-pub mod tessellate;
+pub(crate) mod tessellate;
 pub mod transform;
 
 pub use mesh::TriangleMesh;

@@ -4,7 +4,7 @@
 
 mod math;
 
-pub use math::{asin, atan2, exp2, log2, mul_add, pow};
+pub use math::{asin, atan2, log2, mul_add, pow};
 
 use glam::{Affine3A, Mat3, Vec3};
 use std::ops::{Add, Mul, Neg, Sub};

@@ -30,6 +30,13 @@ impl ShadowSettings {
     pub const OFF: ShadowSettings = ShadowSettings { enabled: false, size: None, bias: 1.0 };
 }
 
+impl Default for ShadowSettings {
+    /// Shadows on, the map as large as the frame, the usual bias: a scene light's defaults.
+    fn default() -> Self {
+        ShadowSettings { enabled: true, ..ShadowSettings::OFF }
+    }
+}
+
 /// The side of the blocks of texels whose summaries let most lookups skip the texels.
 const BLOCK: usize = 8;
 /// A block's object where it holds more than one.

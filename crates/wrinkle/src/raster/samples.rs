@@ -35,10 +35,6 @@ impl SamplePattern {
         self.offsets.len()
     }
 
-    pub fn is_empty(&self) -> bool {
-        self.offsets.is_empty()
-    }
-
     /// The offset of sample `s` in pixels.
     pub fn offset(&self, s: usize) -> (f32, f32) {
         let [x, y] = self.offsets[s];

@@ -21,6 +21,7 @@ pub struct Bins {
 }
 
 impl Bins {
+    #[cfg(test)]
     pub fn new(triangles: &[ScreenTriangle], width: usize, height: usize, tile_size: usize) -> Bins {
         Bins::of(triangles, width, height, tile_size, |_| true)
     }

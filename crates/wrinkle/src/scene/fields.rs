@@ -93,6 +93,16 @@ impl<'a> Fields<'a> {
         Ok(fields)
     }
 
+    /// A constructor's error in the scene's words: a parameter (`Error::Parameter`) named by its field's
+    /// path in this table, anything else not tied to one parameter by the table's path.
+    pub fn named(&self, e: Error) -> Error {
+        match e {
+            Error::Parameter { name, message } => Error::scene(self.at(name), message),
+            Error::Invalid(m) => Error::scene(&self.path, m),
+            other => other,
+        }
+    }
+
     pub fn at(&self, key: &str) -> String {
         if self.path.is_empty() {
             key.to_string()

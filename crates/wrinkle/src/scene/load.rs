@@ -14,7 +14,7 @@ use crate::bump::{BumpFormula, BumpMap, BumpSource, BumpTable, Displacement, Dis
 use crate::geometry::billboard::{Align, Billboard};
 use crate::geometry::{MeshPart, Shape, Surface, Transform};
 use crate::image::io;
-use crate::light::{Light, ShadowSettings, Spot};
+use crate::light::{Light, ShadowSettings};
 use crate::mapping::polygon::QuadMapping;
 use crate::mapping::{Projection as MapProjection, UvTransform};
 use crate::procedural::solid::Space;
@@ -115,41 +115,26 @@ fn parse_camera(v: &Value) -> Result<CameraDesc> {
     let eye = f.required("eye", f.vec3("eye")?)?;
     let look_at = f.required("look_at", f.vec3("look_at")?)?;
     let up = f.vec3("up")?.unwrap_or(Vec3::Y);
-    if (look_at - eye).length() == 0.0 {
-        return Err(Error::scene(f.at("look_at"), "must differ from camera.eye"));
-    }
-    if (look_at - eye).normalize().cross(up).length() < 1e-6 {
-        return Err(Error::scene(f.at("up"), "must not be parallel to the view direction"));
-    }
     let kind =
         f.choice("projection", "perspective", &[("perspective", "perspective"), ("orthographic", "orthographic")])?;
     let projection = if kind == "perspective" {
         if f.get("height").is_some() {
             return Err(Error::scene(f.at("height"), "only for projection = \"orthographic\""));
         }
-        Projection::Perspective {
-            fov_y: f.number_where("fov_y", Some(40.0), |x| x > 0.0 && x < 180.0, "degrees between 0 and 180")?,
-        }
+        Projection::perspective(f.number_or("fov_y", 40.0)?)
     } else {
         if f.get("fov_y").is_some() {
             return Err(Error::scene(f.at("fov_y"), "only for projection = \"perspective\""));
         }
-        Projection::Orthographic { height: f.number_where("height", Some(2.0), positive, "a positive height")? }
+        Projection::orthographic(f.number_or("height", 2.0)?)
     };
-    let background = colour(&f, "background", Vec3::ZERO)?;
-    Ok(CameraDesc { eye, look_at, up, projection, background })
+    let background = f.vec3("background")?.unwrap_or(Vec3::ZERO);
+    CameraDesc::new(eye, look_at, up, projection.map_err(|e| f.named(e))?, background).map_err(|e| f.named(e))
 }
 
 /// A colour: three non-negative numbers.
-pub(super) fn colour(f: &Fields, key: &str, default: Vec3) -> Result<Vec3> {
-    let c = f.vec3(key)?.unwrap_or(default);
-    if c.min_element() < 0.0 {
-        return Err(Error::scene(
-            f.at(key),
-            format!("expected non-negative colour components, got [{}, {}, {}]", c.x, c.y, c.z),
-        ));
-    }
-    Ok(c)
+pub(super) fn colour(f: &Fields, key: &'static str, default: Vec3) -> Result<Vec3> {
+    super::build::check_colour(key, f.vec3(key)?.unwrap_or(default)).map_err(|e| f.named(e))
 }
 
 /// A light and how it casts shadows; a spot light's slide is loaded onto `slides`.
@@ -197,40 +182,26 @@ fn parse_light(
         size: f.get("shadow_size").map(|_| f.integer_where("shadow_size", 0, 16, 8192)).transpose()?,
         bias: f.number_where("shadow_bias", Some(1.0), |b| (0.0..=100.0).contains(&b), "a bias scale from 0 to 100")?,
     };
-    let direction = || -> Result<Vec3> {
-        let d = f.required("direction", f.vec3("direction")?)?;
-        if d.length() == 0.0 || !d.is_finite() {
-            return Err(Error::scene(f.at("direction"), "must not be [0, 0, 0]"));
-        }
-        Ok(d.normalize())
-    };
+    let direction = || -> Result<Vec3> { f.required("direction", f.vec3("direction")?) };
+    let position = || -> Result<Vec3> { f.required("position", f.vec3("position")?) };
     let light = match kind {
-        "directional" => Light::Directional { direction: direction()?, radiance },
-        "point" => Light::Point { position: f.required("position", f.vec3("position")?)?, radiance },
+        "directional" => Light::directional(direction()?, radiance),
+        "point" => Light::point(position()?, radiance),
         "spot" => {
-            let position = f.required("position", f.vec3("position")?)?;
-            let angle = f.number_where(
-                "angle",
-                Some(30.0),
-                |a| a > 0.0 && a < 89.0,
-                "degrees from the axis, above 0 and below 89",
-            )?;
-            let falloff = f.number_where("falloff", Some(5.0), |x| x >= 0.0, "degrees, at least 0")?;
-            if falloff > angle {
-                return Err(Error::scene(f.at("falloff"), format!("at most the cone's angle ({angle} degrees)")));
-            }
+            let angle = f.number_or("angle", 30.0)?;
+            let falloff = f.number_or("falloff", 5.0)?;
             let up = f.vec3("up")?.unwrap_or(Vec3::Y);
-            let mut spot = Spot::new(position, direction()?, up, angle, falloff, radiance);
-            if let Some(name) = f.string("texture")? {
+            let mut spot = Light::spot(position()?, direction()?, up, angle, falloff, radiance);
+            if let (Ok(Light::Spot(spot)), Some(name)) = (&mut spot, f.string("texture")?) {
                 let file = resolve(base, &f.at("texture"), name)?;
                 let options = TextureOptions { wrap: [Wrap::Border; 2], ..TextureOptions::default() };
                 slides.push(load_texture(&file, true, options)?.0);
                 spot.slide = Some(slides.len() - 1);
             }
-            Light::Spot(spot)
+            spot
         }
-        "ambient" => Light::Ambient { radiance },
-        "environment" => Light::Environment { radiance },
+        "ambient" => Light::ambient(radiance),
+        "environment" => Ok(Light::Environment { radiance }),
         other => {
             return Err(Error::scene(
                 f.at("type"),
@@ -241,7 +212,7 @@ fn parse_light(
             ))
         }
     };
-    Ok((light, shadow))
+    Ok((light.map_err(|e| f.named(e))?, shadow))
 }
 
 const SHAPE_FIELDS: &[&str] = &[
@@ -626,12 +597,11 @@ fn parse_bump(path: &str, v: &Value, base: &Path) -> Result<BumpMap> {
         None => None,
     };
     Ok(BumpMap {
-        source,
-        scale: f.number_or("scale", 0.05)?,
         mapping: parse_mapping(&f.at("mapping"), f.get("mapping"), uv_transform(&f)?)?,
         formula,
         filter: FilterOptions { filter: bump_filter(&f)?, ..FilterOptions::default() },
         parallax,
+        ..BumpMap::new(source, f.number_or("scale", 0.05)?).map_err(|e| f.named(e))?
     })
 }
 
@@ -772,9 +742,5 @@ fn parse_generator(path: &str, v: &Value) -> Result<crate::image::GreyImage> {
         }
     };
     // The generators name their parameters by the fields' own names.
-    generator.generate(size).map_err(|e| match e {
-        Error::Parameter { name, message } => Error::scene(format!("{path}.{name}"), message),
-        Error::Invalid(m) => Error::scene(path, m),
-        other => other,
-    })
+    generator.generate(size).map_err(|e| f.named(e))
 }

@@ -1,6 +1,7 @@
 //! The scene: camera, lights, objects and their materials, read from TOML (docs/scene-format.md)
 //! and validated on load.
 
+mod build;
 mod contain;
 mod environment;
 mod export;
@@ -21,7 +22,8 @@ use crate::envmap::Environment;
 use crate::geometry::{Shape, Transform};
 use crate::light::{Light, ShadowSettings};
 use crate::procedural::hypertexture::Hypertexture;
-use crate::raster::Projection;
+/// The camera's projection (perspective or orthographic), with validated constructors.
+pub use crate::raster::Projection;
 use crate::shade::Material;
 use crate::texture::FilteredTexture;
 use glam::Vec3;

@@ -109,11 +109,7 @@ fn parse_pattern(f: &Fields, name_key: &str) -> Result<Procedural> {
     }
     // Parameter errors name the field by its path.
     let dims = if space == Space::Object { 3 } else { 2 };
-    let pattern = Pattern::new(p, dims, false).map_err(|e| match e {
-        Error::Parameter { name, message } => Error::scene(f.at(name), message),
-        Error::Invalid(m) => Error::scene(&f.path, m),
-        other => other,
-    })?;
+    let pattern = Pattern::new(p, dims, false).map_err(|e| f.named(e))?;
     Ok(Procedural { pattern, space })
 }
 

@@ -46,6 +46,7 @@ const FAR: f32 = (1 << 24) as f32;
 /// (2 PIXEL_SIGMA max_aniso)^2 + RECON_SIGMA^2, so the cut-off ellipse lies in a square of side 2 H with
 /// H = RADIUS sqrt of that, which holds at most (floor(2 H) + 1)^2 texels: 2401 for `max_aniso` = 16,
 /// 37249 for 64. (The spans read the ellipse, not its box: about 85 texels for 16:1, at most 142.)
+#[cfg(test)]
 pub fn max_texels(max_aniso: f32) -> usize {
     let major = 2.0 * PIXEL_SIGMA * max_aniso;
     let h = RADIUS * (major * major + RECON_SIGMA * RECON_SIGMA).sqrt();
@@ -63,7 +64,8 @@ pub struct Conic {
 }
 
 impl Conic {
-    /// Heckbert's coefficients from the derivatives.
+    /// Heckbert's coefficients from the derivatives (the tests' reference for `of_covariance`).
+    #[cfg(test)]
     pub fn heckbert(ux: f32, vx: f32, uy: f32, vy: f32) -> Conic {
         Conic {
             a: vx * vx + vy * vy,
@@ -80,7 +82,7 @@ impl Conic {
     }
 
     /// (A u^2 + B u v + C v^2) / F: 1 on the ellipse.
-    #[inline]
+    #[cfg(test)]
     pub fn q(&self, u: f32, v: f32) -> f32 {
         (self.a * u * u + self.b * u * v + self.c * v * v) / self.f
     }

@@ -3,16 +3,16 @@
 //! [`Filter`] for every lookup.
 
 use super::filter::{Filter, FilterOptions, Filterable};
-use super::mip::{build_levels, LevelRule, MipFilter};
+use super::mip::{build_levels, pyramid_of, LevelRule, MipFilter};
 use super::rgba8::Rgba8Plane;
-use super::texel::Plane;
+use super::texel::{Plane, TexelSource};
 use super::trilinear8::{trilinear8, trilinear_taps8};
 use super::wrap::Wrap;
-use super::{aniso, lane_by_lane, Footprint, LookupContext, LookupContext8, Texture};
+use super::{aniso, lane_by_lane, Footprint, Footprint8, LookupContext, LookupContext8, SurfaceLanes, Texture};
 use crate::image::color::SrgbEncoder;
-use crate::image::Image;
-use crate::lanes::F8;
-use glam::Vec4;
+use crate::image::{Image, ImageRef};
+use crate::lanes::{F8, LANES, V3};
+use glam::{Vec2, Vec3, Vec4};
 use std::sync::Arc;
 
 /// How a texture is prepared (once) and looked up.
@@ -75,16 +75,19 @@ enum Levels {
 }
 
 impl FilteredTexture {
-    /// A texture from linear RGBA pixels (row 0 at the top, as images are stored).
-    pub fn new(image: &Image<[f32; 4]>, options: TextureOptions) -> Self {
-        let plane = Plane::from_top_rows_with(image.width, image.height, &image.pixels, Vec4::from);
+    /// A texture from linear RGBA pixels (row 0 at the top, as images are stored), an [`Image`] or a view
+    /// of the caller's buffer.
+    pub fn new<'a>(image: impl Into<ImageRef<'a, [f32; 4]>>, options: TextureOptions) -> Self {
+        let image = image.into();
+        let plane = Plane::from_top_rows_with(image.width(), image.height(), image.pixels(), Vec4::from);
         FilteredTexture::of(Levels::Float(Filterable::new(plane, options.mip_filter, options.wrap)), options)
     }
 
     /// A texture from 8-bit RGBA bytes as stored (row 0 at the top); `srgb`: the colour channels are
     /// sRGB-encoded. The pyramid is built in linear light in f32 and stored in 8 bits; level 0 keeps the bytes.
-    pub fn from_rgba8(image: &Image<[u8; 4]>, srgb: bool, options: TextureOptions) -> Self {
-        let base = Rgba8Plane::from_top_rows(image.width, image.height, &image.pixels, srgb);
+    pub fn from_rgba8<'a>(image: impl Into<ImageRef<'a, [u8; 4]>>, srgb: bool, options: TextureOptions) -> Self {
+        let image = image.into();
+        let base = Rgba8Plane::from_top_rows(image.width(), image.height(), image.pixels(), srgb);
         let float = build_levels(base.decode(), options.mip_filter, options.wrap);
         let encoder = SrgbEncoder::new();
         let levels =
@@ -104,6 +107,14 @@ impl FilteredTexture {
         FilteredTexture { data: Arc::clone(&self.data), options, path: Path::of(&self.data, &options) }
     }
 
+    /// (width, height) of level 0 in texels.
+    pub fn size(&self) -> (usize, usize) {
+        match &*self.data {
+            Levels::Float(d) => (d.levels()[0].width(), d.levels()[0].height()),
+            Levels::Bytes(d) => (d.levels()[0].width(), d.levels()[0].height()),
+        }
+    }
+
     pub fn options(&self) -> &TextureOptions {
         &self.options
     }
@@ -118,6 +129,40 @@ impl FilteredTexture {
             }
             _ => self.lookup_generic(s, t, fp),
         }
+    }
+
+    /// `lookup` at every (s, t) of `st` with its footprint in `footprints`, into `out`, in packets of
+    /// eight as the renderer's packet shader looks textures up (the packet trilinear filter agrees with
+    /// `lookup` to 2e-5: it sums in another order). All three slices are of one length.
+    pub fn lookup_batch(&self, st: &[Vec2], footprints: &[Footprint], out: &mut [Vec4]) {
+        assert!(st.len() == footprints.len() && st.len() == out.len(), "lookup_batch: slices of different lengths");
+        let (st8, st_rest) = st.as_chunks::<LANES>();
+        let (fp8, fp_rest) = footprints.as_chunks::<LANES>();
+        let (out8, out_rest) = out.as_chunks_mut::<LANES>();
+        for ((st, fp), out) in st8.iter().zip(fp8).zip(out8) {
+            let fp = Footprint8::from_lanes(fp);
+            let (s, t) = (F8::new(st.map(|p| p.x)), F8::new(st.map(|p| p.y)));
+            let zero = V3::splat(Vec3::ZERO);
+            let surface = SurfaceLanes::new(zero, zero, zero, &fp, 0, [0; LANES]);
+            let rgba = self.eval8(&LookupContext8 { surface: &surface, u: s, v: t, footprint: fp });
+            let [r, g, b, a] = rgba.map(|c| c.to_array());
+            for (i, o) in out.iter_mut().enumerate() {
+                *o = Vec4::new(r[i], g[i], b[i], a[i]);
+            }
+        }
+        for ((p, f), o) in st_rest.iter().zip(fp_rest).zip(out_rest) {
+            *o = self.lookup(p.x, p.y, f);
+        }
+    }
+
+    /// The MIP pyramid in linear light, level 0 first, each an image (row 0 at the top): level 0 as given,
+    /// the others filtered from it in f32 (for an 8-bit source, before their storage in 8 bits).
+    pub fn pyramid(&self) -> Vec<Image<[f32; 4]>> {
+        let base = match &*self.data {
+            Levels::Float(d) => d.levels()[0].clone(),
+            Levels::Bytes(d) => d.levels()[0].decode(),
+        };
+        pyramid_of(base, self.options.mip_filter, self.options.wrap)
     }
 
     /// `lookup` through the generic filters (kept out of line, so that `lookup` itself stays small).

@@ -6,6 +6,8 @@ use super::reconstruct::{bilinear, lerp, sinc, Addressing};
 use super::texel::{Plane, Texel, TexelSource};
 use super::wrap::Wrap;
 use super::Footprint;
+use crate::image::{Image, ImageRef};
+use glam::Vec4;
 use rayon::prelude::*;
 
 /// The low-pass filter that makes each level from the one before.
@@ -184,6 +186,23 @@ pub fn build_levels<S: Resample>(base: S, filter: MipFilter, wrap: [Wrap; 2]) ->
         let next = last.downsample(half(w), half(h), filter, wrap);
         levels.push(next);
     }
+}
+
+/// The MIP pyramid of linear RGBA pixels (an [`Image`] or a view of the caller's buffer, row 0 at the top),
+/// level 0 first and each level an image the same way up.
+pub fn pyramid<'a>(
+    image: impl Into<ImageRef<'a, [f32; 4]>>,
+    filter: MipFilter,
+    wrap: [Wrap; 2],
+) -> Vec<Image<[f32; 4]>> {
+    let image = image.into();
+    pyramid_of(Plane::from_top_rows_with(image.width(), image.height(), image.pixels(), Vec4::from), filter, wrap)
+}
+
+/// [`pyramid`] from texels already in a plane.
+pub(crate) fn pyramid_of(base: Plane<Vec4>, filter: MipFilter, wrap: [Wrap; 2]) -> Vec<Image<[f32; 4]>> {
+    // Each plane goes as soon as its image is made: the pyramid is held about once, not twice.
+    build_levels(base, filter, wrap).into_iter().map(|level| level.to_image()).collect()
 }
 
 /// How the level is chosen from the footprint.

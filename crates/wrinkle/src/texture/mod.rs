@@ -1,21 +1,21 @@
 //! Textures: sources looked up at a surface sample (its lookup context), images through the pixel's
 //! footprint in texture space.
 
-pub mod aniso;
-pub mod colour_table;
+pub(crate) mod aniso;
+pub(crate) mod colour_table;
 pub mod context;
-pub mod ewa;
+pub(crate) mod ewa;
 pub mod filter;
 pub mod filtered;
 pub mod footprint;
-pub mod ground_truth;
+pub(crate) mod ground_truth;
 pub mod mip;
 pub mod reconstruct;
-pub mod rgba8;
-pub mod ripmap;
-pub mod sat;
-pub mod texel;
-pub mod trilinear8;
+pub(crate) mod rgba8;
+pub(crate) mod ripmap;
+pub(crate) mod sat;
+pub(crate) mod texel;
+pub(crate) mod trilinear8;
 pub mod wrap;
 
 pub use context::{LookupContext, LookupContext8, PrimitiveId, SurfaceLanes, UvSet, UvSet8};

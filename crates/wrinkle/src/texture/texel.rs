@@ -2,6 +2,7 @@
 //! texels one MIP level holds. Colour textures use `Vec4` (linear RGBA), bump tables `f32` heights and, with
 //! their central differences, `Vec3` (T, dT/ds, dT/dt): the filters are written once for all of them.
 
+use crate::image::Image;
 use glam::{DVec3, DVec4, Vec3, Vec4};
 use std::ops::{Add, Mul, Sub};
 
@@ -99,6 +100,13 @@ impl<T: Texel> Plane<T> {
     #[inline]
     pub fn row(&self, j: usize) -> &[T] {
         &self.texels[j * self.width..(j + 1) * self.width]
+    }
+}
+
+impl Plane<Vec4> {
+    /// The texels as an image of RGBA pixels, flipped back so that row 0 is the top.
+    pub fn to_image(&self) -> Image<[f32; 4]> {
+        Image::from_fn(self.width, self.height, |x, y| self.texels[(self.height - 1 - y) * self.width + x].to_array())
     }
 }
 

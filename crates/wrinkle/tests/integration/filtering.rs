@@ -7,7 +7,7 @@
 use glam::{DVec3, Vec4};
 use wrinkle::image::color::srgb_to_linear;
 use wrinkle::image::Image;
-use wrinkle::texture::ewa::Axes;
+use wrinkle::internals::Axes;
 use wrinkle::texture::{Filter, FilterOptions, FilteredTexture, Footprint, LookupContext, TextureOptions};
 
 const W: usize = 192;

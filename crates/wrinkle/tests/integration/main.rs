@@ -18,6 +18,7 @@ mod mappings;
 mod meshes;
 mod normal_map_reference;
 mod procedural_aliasing;
+mod public_api;
 mod raster_reference;
 mod scene_robustness;
 mod shadows;

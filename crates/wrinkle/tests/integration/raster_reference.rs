@@ -7,12 +7,8 @@
 use crate::common::*;
 use glam::{Affine3A, DVec3, Quat, Vec3};
 use std::path::Path;
-use wrinkle::geometry::tessellate::{grid, Mesh};
-use wrinkle::geometry::Surface;
-use wrinkle::raster::visibility::cover;
-use wrinkle::raster::{Camera, Cull, Projection, SamplePattern, TriangleSetup};
-use wrinkle::render::Aovs;
-use wrinkle::{render, RenderOptions, Scene};
+use wrinkle::internals::{cover, grid, Camera, Cull, Mesh, SamplePattern, TriangleSetup};
+use wrinkle::{render, Aovs, Projection, RenderOptions, Scene, Surface};
 
 // ---------------------------------------------------------------------------------------------
 // 4. Perspective-correct (u,v).
