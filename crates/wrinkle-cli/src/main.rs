@@ -20,6 +20,7 @@ mod render;
 mod sheet;
 mod tessellate;
 mod texture;
+mod tiles;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;

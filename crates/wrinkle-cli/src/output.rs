@@ -87,6 +87,8 @@ type Output<'a> = (PathBuf, Box<dyn Fn(&Path) -> Result<()> + 'a>);
 /// The frame as PNG or EXR (by the extension of `out`), and every AOV it holds as `OUT.<name>.exr`.
 fn outputs<'a>(out: &Path, frame: &'a Frame) -> Result<Vec<Output<'a>>> {
     let (w, h) = (frame.width, frame.height);
+    // A crop's EXRs carry its place in the frame (their data window); its PNG is the crop alone.
+    let at = frame.placement;
     let mut list: Vec<Output<'a>> = Vec::new();
     match format_of(out)? {
         Format::Png => list.push((
@@ -102,8 +104,8 @@ fn outputs<'a>(out: &Path, frame: &'a Frame) -> Result<Vec<Output<'a>>> {
             Box::new(move |p| {
                 let (r, g, b) = (channel(&frame.color, 0), channel(&frame.color, 1), channel(&frame.color, 2));
                 match &frame.alpha {
-                    None => io::write_exr(p, w, h, &[("R", &r), ("G", &g), ("B", &b)]),
-                    Some(a) => io::write_exr(p, w, h, &[("R", &r), ("G", &g), ("B", &b), ("A", a)]),
+                    None => io::write_exr_placed(p, at, &[("R", &r), ("G", &g), ("B", &b)]),
+                    Some(a) => io::write_exr_placed(p, at, &[("R", &r), ("G", &g), ("B", &b), ("A", a)]),
                 }
             }),
         )),
@@ -113,28 +115,28 @@ fn outputs<'a>(out: &Path, frame: &'a Frame) -> Result<Vec<Output<'a>>> {
             aov_path(out, "normal"),
             Box::new(move |p| {
                 let (x, y, z) = (channel(n, 0), channel(n, 1), channel(n, 2));
-                io::write_exr(p, w, h, &[("X", &x), ("Y", &y), ("Z", &z)])
+                io::write_exr_placed(p, at, &[("X", &x), ("Y", &y), ("Z", &z)])
             }),
         ));
     }
     if let Some(uv) = &frame.uv {
         list.push((
             aov_path(out, "uv"),
-            Box::new(move |p| io::write_exr(p, w, h, &[("U", &channel(uv, 0)), ("V", &channel(uv, 1))])),
+            Box::new(move |p| io::write_exr_placed(p, at, &[("U", &channel(uv, 0)), ("V", &channel(uv, 1))])),
         ));
     }
     if let Some(d) = &frame.depth {
-        list.push((aov_path(out, "depth"), Box::new(move |p| io::write_exr(p, w, h, &[("Z", d)]))));
+        list.push((aov_path(out, "depth"), Box::new(move |p| io::write_exr_placed(p, at, &[("Z", d)]))));
     }
     if let Some(id) = &frame.id {
-        list.push((aov_path(out, "id"), Box::new(move |p| io::write_exr(p, w, h, &[("id", id)]))));
+        list.push((aov_path(out, "id"), Box::new(move |p| io::write_exr_placed(p, at, &[("id", id)]))));
     }
     if let Some(ids) = &frame.primitive {
         list.push((
             aov_path(out, "primitive"),
             Box::new(move |p| {
                 let (object, triangle): (Vec<u32>, Vec<u32>) = ids.iter().map(|&[o, t]| (o, t)).unzip();
-                io::write_exr_u32(p, w, h, &[("object", &object), ("triangle", &triangle)])
+                io::write_exr_u32(p, at, &[("object", &object), ("triangle", &triangle)])
             }),
         ));
     }

@@ -41,6 +41,12 @@ pub struct RenderArgs {
     /// nothing: alpha 0 there (PNG RGBA with straight alpha; EXR RGBA premultiplied).
     #[arg(long, default_value = "scene", value_parser = ["scene", "transparent"])]
     pub background: String,
+    /// Render the frame in tiles of N x N pixels, one after another, each exactly as the whole frame renders
+    /// it, assembled into the output. A PNG of colour alone is written band by band as its tiles come, so a
+    /// frame too large to render at once (up to 65536 on a side) needs the memory of one band of tiles;
+    /// EXR, AOVs and transparent PNGs are assembled whole first.
+    #[arg(long, value_name = "N")]
+    pub tile: Option<usize>,
 }
 
 /// Frames with at least this many samples (about 2 s of work) show a progress bar.
@@ -83,6 +89,12 @@ pub struct FrameArgs {
 
 impl FrameArgs {
     pub fn options(&self) -> Result<RenderOptions> {
+        self.options_in_tiles(None)
+    }
+
+    /// The options of a frame rendered in `tile` x `tile` parts where asked: each part is then checked as
+    /// the crop it is, so the whole frame may be larger than one render holds.
+    pub fn options_in_tiles(&self, tile: Option<usize>) -> Result<RenderOptions> {
         crate::set_threads(self.threads)?;
         let options = RenderOptions {
             width: self.width,
@@ -97,7 +109,21 @@ impl FrameArgs {
             crop: self.crop.as_deref().map(parse_crop).transpose()?,
             ..RenderOptions::default()
         };
-        options.validate()?;
+        match tile {
+            None => options.validate()?,
+            Some(n) => {
+                if options.crop.is_some() {
+                    return Err(Error::Invalid(
+                        "--tile splits the whole frame: give --crop or --tile, not both".into(),
+                    ));
+                }
+                if !(16..=1 << 16).contains(&n) {
+                    return Err(Error::parameter("tile", format!("must be between 16 and 65536, got {n}")));
+                }
+                let first = Crop { x0: 0, y0: 0, x1: n.min(options.width), y1: n.min(options.height) };
+                RenderOptions { crop: Some(first), ..options.clone() }.validate()?;
+            }
+        }
         Ok(options)
     }
 }
@@ -151,12 +177,14 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     format_of(&args.output)?;
     let to_stdout = is_stdout(&args.output);
     if to_stdout {
-        if !args.aov.is_empty() || args.frames > 1 {
-            return Err(Error::Invalid("-o -: the standard output holds one PNG: no --aov, no --frames".into()));
+        if !args.aov.is_empty() || args.frames > 1 || args.tile.is_some() {
+            return Err(Error::Invalid(
+                "-o -: the standard output holds one PNG: no --aov, no --frames, no --tile".into(),
+            ));
         }
         check_stdout()?;
     }
-    let mut options = args.frame.options()?;
+    let mut options = args.frame.options_in_tiles(args.tile)?;
     options.aovs = parse_aovs(&args.aov)?;
     options.transparent = args.background == "transparent";
     if args.frames == 0 || args.frames > 100_000 {
@@ -179,6 +207,22 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let mut set = OutputSet::new();
     for k in 0..args.frames {
         options.turntable_degrees = if args.turntable { 360.0 * k as f32 / args.frames as f32 } else { 0.0 };
+        let out = if animated { numbered(&args.output, k) } else { args.output.clone() };
+        if let Some(n) = args.tile {
+            let t = std::time::Instant::now();
+            crate::tiles::render_in_tiles(&scene, &options, n, &out, &mut set, !animated)?;
+            if args.stats {
+                eprintln!(
+                    "{}: {n}x{n} tiles rendered and written in {:.1} ms",
+                    out.display(),
+                    t.elapsed().as_secs_f64() * 1e3
+                );
+            }
+            if let Some(b) = &bar {
+                b.inc(1);
+            }
+            continue;
+        }
         // One long frame (many samples, or ray-marched volumes) gets a bar of its own (bands of tiles); an
         // animation has one over its frames.
         let long = !animated
@@ -193,7 +237,6 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         if let Some(b) = frame_bar {
             b.finish();
         }
-        let out = if animated { numbered(&args.output, k) } else { args.output.clone() };
         let t = std::time::Instant::now();
         if to_stdout {
             write_stdout(&frame)?;

@@ -14,6 +14,7 @@ use wrinkle::bump::schlag::{emboss_image, modulate_rgb8, Emboss};
 use wrinkle::image::color::SrgbEncoder;
 use wrinkle::image::io;
 use wrinkle::image::strips::Edges;
+use wrinkle::ImageRef;
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(emboss, m)?)?;
@@ -43,8 +44,9 @@ fn emboss<'py>(
     let emboss = Emboss::new(azimuth, elevation, width).py_err()?;
     // The core's intensities run 0..255, as 8-bit files decode.
     let intensities: Vec<f32> = slice("height", &height)?.iter().map(|&v| v * 255.0).collect();
-    let shade = py.detach(|| emboss_image(&intensities, s[1], s[0], &emboss));
-    Ok(output(py, &s, shade))
+    let image = ImageRef::new(s[1], s[0], &intensities).map_err(|e| invalid(format!("height: {e}")))?;
+    let shade = py.detach(|| emboss_image(image, &emboss));
+    Ok(output(py, &s, shade.pixels))
 }
 
 /// An 8-bit RGB texture (H, W, 3) times the shade (H, W), rounded as `wrinkle emboss --texture` rounds.
@@ -96,13 +98,13 @@ fn normal_map<'py>(
         _ => return Err(invalid(format!("kernel: expected \"central\", \"sobel\" or \"scharr\", got \"{kernel}\""))),
     };
     let map = NormalMap::new(kernel, strength, self::convention(convention)?).py_err()?;
-    let heights = slice("height", &height)?;
-    let size = (s[1], s[0]);
+    // Read in place: a view of the array's buffer.
+    let heights = ImageRef::new(s[1], s[0], slice("height", &height)?).map_err(|e| invalid(format!("height: {e}")))?;
     Ok(if offset {
-        let slopes = py.detach(|| flatten(map.slopes_image(heights, size, edges(wrap))));
+        let slopes = py.detach(|| flatten(map.slopes_image(heights, edges(wrap)).pixels));
         output(py, &[s[0], s[1], 2], slopes)
     } else {
-        let normals = py.detach(|| flatten(map.normals_image(heights, size, edges(wrap))));
+        let normals = py.detach(|| flatten(map.normals_image(heights, edges(wrap)).pixels));
         output(py, &[s[0], s[1], 3], normals)
     })
 }

@@ -10,7 +10,7 @@ use std::collections::BTreeSet;
 use std::fs;
 use std::path::Path;
 
-use wrinkle::image::io::read_exr_channels;
+use wrinkle::image::io::{read_exr_channels, Placement};
 
 /// Small images keep every render fast.
 const W: &str = "64";
@@ -919,4 +919,82 @@ fn a_crop_is_the_whole_frames_pixels() {
     }
     let run = wrinkle(&["render", "-o", &part, "--crop", "0,0,300,10", "--width", "200", "--height", "120"]);
     assert_one_error(&run, 2, &["--crop must be X0,Y0,X1,Y1", "300"], &Scratch::new("crop_bad"));
+}
+
+/// A crop's EXRs carry its place in the frame: the data window is the crop, the display window the frame
+/// (the OpenEXR header's dataWindow and displayWindow, as the exr crate reads them).
+#[test]
+fn a_cropped_exr_carries_its_data_window() {
+    let s = Scratch::new("crop_exr");
+    let (whole, part) = (s.out("whole.exr"), s.out("part.exr"));
+    let size = ["--width", "120", "--height", "80", "--aov", "primitive"];
+    assert_ok(&wrinkle(&[&["render", "-o", &whole][..], &size].concat()));
+    assert_ok(&wrinkle(&[&["render", "-o", &part, "--crop", "20,10,100,45"][..], &size].concat()));
+    let placed = |f: &str| wrinkle::image::io::read_exr_placement(Path::new(f)).unwrap();
+    let expected = Placement { x0: 20, y0: 10, width: 80, height: 35, full_width: 120, full_height: 80 };
+    assert_eq!(placed(&part), expected);
+    assert_eq!(placed(&part.replace(".exr", ".primitive.exr")), expected);
+    assert_eq!(placed(&whole), Placement::whole(120, 80));
+    let (_, _, w) = read_exr_channels(Path::new(&whole)).unwrap();
+    let (_, _, p) = read_exr_channels(Path::new(&part)).unwrap();
+    for ((name, wc), (_, pc)) in w.iter().zip(&p) {
+        for y in 0..35 {
+            for x in 0..80 {
+                assert_eq!(pc[y * 80 + x].to_bits(), wc[(y + 10) * 120 + 20 + x].to_bits(), "{name} at ({x}, {y})");
+            }
+        }
+    }
+}
+
+/// `--tile N` renders the frame in parts and assembles them: the same pixels and AOVs as the whole frame,
+/// for a PNG streamed band by band, an EXR with AOVs and a transparent PNG; and a frame above the pixel
+/// limit of one render renders in tiles.
+#[test]
+fn a_frame_in_tiles_is_the_whole_frame() {
+    let s = Scratch::new("tiles");
+    let size = ["--width", "150", "--height", "100", "--spp", "4"];
+    for (name, extra) in [
+        ("plain.png", &[][..]),
+        ("aovs.exr", &["--aov", "depth,uv"][..]),
+        ("clear.png", &["--background", "transparent"][..]),
+    ] {
+        let (whole, tiled) = (s.out(&format!("whole_{name}")), s.out(&format!("tiled_{name}")));
+        assert_ok(&wrinkle(&[&["render", "-o", &whole][..], &size, extra].concat()));
+        // 64 does not divide 150 or 100: the last tiles of each row and column are narrower.
+        assert_ok(&wrinkle(&[&["render", "-o", &tiled, "--tile", "64"][..], &size, extra].concat()));
+        if name.ends_with(".png") {
+            let (a, b) = (
+                wrinkle::image::io::load_rgba8(Path::new(&whole)).unwrap(),
+                wrinkle::image::io::load_rgba8(Path::new(&tiled)).unwrap(),
+            );
+            assert_eq!((b.width, b.height), (150, 100));
+            assert!(a.pixels == b.pixels, "{name}: the tiled frame differs");
+        } else {
+            for file in [whole.clone(), whole.replace(".exr", ".depth.exr"), whole.replace(".exr", ".uv.exr")] {
+                let a = read_exr_channels(Path::new(&file)).unwrap();
+                let b = read_exr_channels(Path::new(&file.replace("whole_", "tiled_"))).unwrap();
+                assert_eq!((a.0, a.1), (b.0, b.1));
+                for ((n, x), (_, y)) in a.2.iter().zip(&b.2) {
+                    assert!(
+                        x.iter().zip(y).all(|(p, q)| p.to_bits() == q.to_bits()),
+                        "{file} {n}: the tiled frame differs"
+                    );
+                }
+            }
+        }
+    }
+    // 15,000 pixels against a limit of 10,000 for one render: refused whole, rendered in 64 x 64 tiles.
+    let (whole, tiled) = (s.out("big_whole.png"), s.out("big_tiled.png"));
+    let limit = ["--limit", "frame-pixels=10000"];
+    let run = wrinkle(&[&limit[..], &["render", "-o", &whole], &size].concat());
+    assert_one_error(&run, 2, &["150x100", "10000 pixel limit"], &Scratch::new("tiles_big"));
+    assert!(!Path::new(&whole).exists(), "a refused render leaves no file");
+    assert_ok(&wrinkle(&[&limit[..], &["render", "-o", &tiled, "--tile", "64"], &size].concat()));
+    let a = wrinkle::image::io::load_rgba8(Path::new(&s.out("tiled_plain.png"))).unwrap();
+    let b = wrinkle::image::io::load_rgba8(Path::new(&tiled)).unwrap();
+    assert!(a.pixels == b.pixels, "the frame above the limit differs");
+    let run = wrinkle(&["render", "-o", &tiled, "--tile", "64", "--crop", "0,0,10,10"]);
+    assert_one_error(&run, 2, &["--tile", "--crop"], &Scratch::new("tiles_crop"));
+    let run = wrinkle(&["render", "-o", &tiled, "--tile", "8"]);
+    assert_one_error(&run, 2, &["--tile must be between 16 and 65536, got 8"], &Scratch::new("tiles_small"));
 }

@@ -10,6 +10,7 @@
 use super::schlag::round_to_bits;
 use crate::error::{Error, Result};
 use crate::image::strips::{filter_rows_in_memory, Edges, Window};
+use crate::image::{Image, ImageRef};
 
 /// The derivative kernel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -89,11 +90,13 @@ impl NormalMap {
         }
     }
 
-    /// The unit normal of every pixel of a whole height image held in memory (`size` = (width, height),
-    /// heights in [0, 1], row 0 at the top), interleaved x, y, z.
-    pub fn normals_image(&self, heights: &[f32], size: (usize, usize), edges: Edges) -> Vec<[f32; 3]> {
-        let mut out = vec![[0.0; 3]; heights.len()];
-        filter_rows_in_memory(heights, size, edges, &mut out, |_, win, o| {
+    /// The unit normal of every pixel of a whole height image held in memory (heights in [0, 1], row 0 at
+    /// the top; an image or a view of the caller's buffer).
+    pub fn normals_image<'a>(&self, heights: impl Into<ImageRef<'a, f32>>, edges: Edges) -> Image<[f32; 3]> {
+        let heights = heights.into();
+        let mut out = Image::new(heights.width(), heights.height(), [0.0; 3]);
+        let size = (heights.width(), heights.height());
+        filter_rows_in_memory(heights.pixels(), size, edges, &mut out.pixels, |_, win, o| {
             let n = o.len();
             let mut planes = vec![0.0; 3 * n];
             let (nx, rest) = planes.split_at_mut(n);
@@ -106,10 +109,12 @@ impl NormalMap {
         out
     }
 
-    /// The slopes (the offset vectors) of every pixel of a whole height image held in memory, interleaved.
-    pub fn slopes_image(&self, heights: &[f32], size: (usize, usize), edges: Edges) -> Vec<[f32; 2]> {
-        let mut out = vec![[0.0; 2]; heights.len()];
-        filter_rows_in_memory(heights, size, edges, &mut out, |_, win, o| {
+    /// The slopes (the offset vectors) of every pixel of a whole height image held in memory.
+    pub fn slopes_image<'a>(&self, heights: impl Into<ImageRef<'a, f32>>, edges: Edges) -> Image<[f32; 2]> {
+        let heights = heights.into();
+        let mut out = Image::new(heights.width(), heights.height(), [0.0; 2]);
+        let size = (heights.width(), heights.height());
+        filter_rows_in_memory(heights.pixels(), size, edges, &mut out.pixels, |_, win, o| {
             let n = o.len();
             let mut planes = vec![0.0; 2 * n];
             let (gx, gy) = planes.split_at_mut(n);

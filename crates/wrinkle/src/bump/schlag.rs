@@ -18,6 +18,7 @@
 
 use crate::error::{Error, Result};
 use crate::image::strips::{filter_rows_in_memory, Edges, Window};
+use crate::image::{GreyImage, Image, ImageRef};
 
 /// The constants of one embossing: the unit light vector, N_z and the flat-pixel shade.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -106,11 +107,14 @@ pub fn modulate_rgb8(shade: &[f32], texture: &[u8], out: &mut [u8]) {
     }
 }
 
-/// Embosses a whole grey image held in memory (intensities 0..255, row 0 at the top), border pixels
-/// reading the nearest edge pixel: what the streaming command computes, for callers holding the image.
-pub fn emboss_image(heights: &[f32], width: usize, height: usize, emboss: &Emboss) -> Vec<f32> {
-    let mut out = vec![0.0; width * height];
-    filter_rows_in_memory(heights, (width, height), Edges::Clamp, &mut out, |_, win, o| emboss.shade_row(win, o));
+/// Embosses a whole grey image held in memory (intensities 0..255, row 0 at the top; an image or a view of
+/// the caller's buffer), border pixels reading the nearest edge pixel: what the streaming command computes,
+/// for callers holding the image.
+pub fn emboss_image<'a>(heights: impl Into<ImageRef<'a, f32>>, emboss: &Emboss) -> GreyImage {
+    let heights = heights.into();
+    let mut out = Image::new(heights.width(), heights.height(), 0.0);
+    let size = (heights.width(), heights.height());
+    filter_rows_in_memory(heights.pixels(), size, Edges::Clamp, &mut out.pixels, |_, win, o| emboss.shade_row(win, o));
     out
 }
 

@@ -9,8 +9,8 @@ use std::path::Path;
 
 use ::image::{ColorType, DynamicImage, ImageDecoder, ImageError, ImageFormat, ImageReader};
 use exr::prelude::{
-    AnyChannel, AnyChannels, Encoding, FlatSamples, Layer, LayerAttributes, ReadChannels, ReadLayers, Text,
-    WritableImage,
+    AnyChannel, AnyChannels, Encoding, FlatSamples, IntegerBounds, Layer, LayerAttributes, ReadChannels, ReadLayers,
+    Text, Vec2, WritableImage,
 };
 
 use super::output::write_atomic;
@@ -292,34 +292,99 @@ pub fn write_png_grey8(path: &Path, img: &GreyImage) -> Result<()> {
 /// row 0 at the top. Compression is ZIP (16 scan lines per block), which is lossless:
 /// every value, NaN included, reads back bit for bit.
 pub fn write_exr(path: &Path, width: usize, height: usize, channels: &[(&str, &[f32])]) -> Result<()> {
-    let owned = channels.iter().map(|&(name, s)| (name, s.to_vec())).collect();
-    write_exr_owned(path, width, height, owned)
+    write_exr_placed(path, Placement::whole(width, height), channels)
+}
+
+/// Where an image lies in a larger picture: its pixels are the `width` x `height` starting at (x0, y0),
+/// row 0 at the top, of a picture of `full_width` x `full_height` (OpenEXR's data window within its
+/// display window).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Placement {
+    pub x0: usize,
+    pub y0: usize,
+    pub width: usize,
+    pub height: usize,
+    pub full_width: usize,
+    pub full_height: usize,
+}
+
+impl Placement {
+    /// An image that is the whole picture.
+    pub fn whole(width: usize, height: usize) -> Placement {
+        Placement { x0: 0, y0: 0, width, height, full_width: width, full_height: height }
+    }
+}
+
+/// `write_exr` of a part of a picture: the file's data window is the part, its display window the picture,
+/// so that viewers and compositors put the part in its place.
+pub fn write_exr_placed(path: &Path, placement: Placement, channels: &[(&str, &[f32])]) -> Result<()> {
+    let samples = channels.iter().map(|&(name, s)| (name, FlatSamples::F32(s.to_vec()))).collect();
+    write_exr_samples(path, placement, samples)
 }
 
 /// `write_exr` taking the channels' samples over, for data too large to copy.
 pub fn write_exr_owned(path: &Path, width: usize, height: usize, channels: Vec<(&str, Vec<f32>)>) -> Result<()> {
     let samples = channels.into_iter().map(|(name, s)| (name, FlatSamples::F32(s))).collect();
-    write_exr_samples(path, width, height, samples)
+    write_exr_samples(path, Placement::whole(width, height), samples)
 }
 
-/// `write_exr` with 32-bit unsigned integer channels (indices that f32 would round beyond 2^24).
-pub fn write_exr_u32(path: &Path, width: usize, height: usize, channels: &[(&str, &[u32])]) -> Result<()> {
+/// `write_exr_placed` with 32-bit unsigned integer channels (indices that f32 would round beyond 2^24).
+pub fn write_exr_u32(path: &Path, placement: Placement, channels: &[(&str, &[u32])]) -> Result<()> {
     let samples = channels.iter().map(|&(name, s)| (name, FlatSamples::U32(s.to_vec()))).collect();
-    write_exr_samples(path, width, height, samples)
+    write_exr_samples(path, placement, samples)
 }
 
-fn write_exr_samples(path: &Path, width: usize, height: usize, channels: Vec<(&str, FlatSamples)>) -> Result<()> {
+fn write_exr_samples(path: &Path, at: Placement, channels: Vec<(&str, FlatSamples)>) -> Result<()> {
+    let (width, height) = (at.width, at.height);
     check_size(width, height).map_err(|m| invalid(path, m))?;
+    let fits = |x0: usize, w: usize, full: usize| x0.checked_add(w).is_some_and(|end| end <= full);
+    if !fits(at.x0, width, at.full_width)
+        || !fits(at.y0, height, at.full_height)
+        || at.full_width > i32::MAX as usize
+        || at.full_height > i32::MAX as usize
+    {
+        return Err(invalid(
+            path,
+            format!(
+                "the part {width}x{height} at ({}, {}) is not inside the {}x{} picture",
+                at.x0, at.y0, at.full_width, at.full_height
+            ),
+        ));
+    }
     let list = channels
         .into_iter()
         .map(|(name, samples)| exr_channel(path, name, samples, width * height))
         .collect::<Result<_>>()?;
     let channels = AnyChannels::sort(list);
     check_channel_names(path, &channels)?;
-    let layer = Layer::new((width, height), LayerAttributes::default(), EXR_ENCODING, channels);
+    let attributes = LayerAttributes { layer_position: Vec2(at.x0 as i32, at.y0 as i32), ..LayerAttributes::default() };
+    let layer = Layer::new((width, height), attributes, EXR_ENCODING, channels);
+    let mut image = exr::prelude::Image::from_layer(layer);
+    image.attributes.display_window = IntegerBounds::new((0, 0), (at.full_width, at.full_height));
     let mut bytes = Cursor::new(Vec::new());
-    exr::prelude::Image::from_layer(layer).write().to_buffered(&mut bytes).map_err(|e| Error::write(path, e))?;
+    image.write().to_buffered(&mut bytes).map_err(|e| Error::write(path, e))?;
     write_atomic(path, |out| out.write_all(bytes.get_ref()).map_err(|e| Error::write(path, e)))
+}
+
+/// Where the first layer of an OpenEXR file lies: its data window within its display window.
+pub fn read_exr_placement(path: &Path) -> Result<Placement> {
+    let meta = exr::meta::MetaData::read_from_buffered(BufReader::new(open_input(path)?), false)
+        .map_err(|e| exr_read_error(path, e))?;
+    let header = meta.headers.first().ok_or_else(|| Error::read(path, "not a valid OpenEXR file: it has no layer"))?;
+    let display = header.shared_attributes.display_window;
+    let position = header.own_attributes.layer_position;
+    let (x0, y0) = (position.x() - display.position.x(), position.y() - display.position.y());
+    if x0 < 0 || y0 < 0 {
+        return Err(Error::read(path, "its data window starts outside its display window"));
+    }
+    Ok(Placement {
+        x0: x0 as usize,
+        y0: y0 as usize,
+        width: header.layer_size.width(),
+        height: header.layer_size.height(),
+        full_width: display.size.width(),
+        full_height: display.size.height(),
+    })
 }
 
 /// Reads every channel of the first layer of an OpenEXR file as `(width, height, [(name, samples)])`,

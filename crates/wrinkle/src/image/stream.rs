@@ -322,7 +322,19 @@ pub fn write_rows(
     compression: PngCompression,
     produce: impl FnOnce(&mut dyn FnMut(&[u8]) -> Result<()>) -> Result<()>,
 ) -> Result<()> {
-    let format = OutputFormat::of(path)?;
+    write_rows_as(path, OutputFormat::of(path)?, width, height, rows, compression, produce)
+}
+
+/// [`write_rows`] in the given format, whatever `path` is called (a staged output's hidden name).
+pub fn write_rows_as(
+    path: &Path,
+    format: OutputFormat,
+    width: usize,
+    height: usize,
+    rows: RowFormat,
+    compression: PngCompression,
+    produce: impl FnOnce(&mut dyn FnMut(&[u8]) -> Result<()>) -> Result<()>,
+) -> Result<()> {
     if format == OutputFormat::Bmp && rows.sixteen {
         return Err(Error::Invalid(format!("{}: BMP output is 8 bits per channel", path.display())));
     }

@@ -1,6 +1,7 @@
 //! A rendered frame: linear RGB and the optional AOVs (normal, uv, depth, id, primitive), with stage
 //! timings.
 
+use crate::image::io::Placement;
 use crate::shade::ShadedSample;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
@@ -68,6 +69,8 @@ pub struct Frame {
     pub primitive: Option<Vec<[u32; 2]>>,
     /// Coverage, 0 to 1 (where asked: a transparent background); the colour is premultiplied by it.
     pub alpha: Option<Vec<f32>>,
+    /// Where the pixels lie in the whole frame: all of it, or the crop.
+    pub placement: Placement,
     pub stats: Stats,
 }
 
@@ -88,8 +91,55 @@ impl Frame {
             id: aovs.id.then(|| vec![f32::NAN; n]),
             primitive: aovs.primitive.then(|| vec![NO_PRIMITIVE; n]),
             alpha: aovs.alpha.then(|| vec![0.0; n]),
+            placement: Placement::whole(width, height),
             stats: Stats::default(),
         }
+    }
+
+    /// The AOVs the frame holds.
+    pub fn aovs(&self) -> Aovs {
+        Aovs {
+            normal: self.normal.is_some(),
+            uv: self.uv.is_some(),
+            depth: self.depth.is_some(),
+            id: self.id.is_some(),
+            primitive: self.primitive.is_some(),
+            alpha: self.alpha.is_some(),
+        }
+    }
+
+    /// Copies `part`'s pixels, its colour and every AOV both frames hold, into this frame with its top left
+    /// at (x0, y0): how the tiles of a frame rendered in parts (crops) are assembled.
+    pub fn paste(&mut self, part: &Frame, x0: usize, y0: usize) {
+        assert!(x0 + part.width <= self.width && y0 + part.height <= self.height, "the part lies outside the frame");
+        // Row by row, for buffers of any pixel type; an AOV only where both frames hold it.
+        struct At {
+            width: usize,
+            part_width: usize,
+            x0: usize,
+            y0: usize,
+        }
+        impl At {
+            fn paste<T: Copy>(&self, dst: &mut [T], src: &[T]) {
+                for (r, row) in src.chunks_exact(self.part_width).enumerate() {
+                    let start = (self.y0 + r) * self.width + self.x0;
+                    dst[start..start + self.part_width].copy_from_slice(row);
+                }
+            }
+            fn paste_aov<T: Copy>(&self, dst: &mut Option<Vec<T>>, src: &Option<Vec<T>>) {
+                if let (Some(d), Some(s)) = (dst, src) {
+                    self.paste(d, s);
+                }
+            }
+        }
+        let at = At { width: self.width, part_width: part.width, x0, y0 };
+        at.paste(&mut self.color, &part.color);
+        at.paste_aov(&mut self.normal, &part.normal);
+        at.paste_aov(&mut self.uv, &part.uv);
+        at.paste_aov(&mut self.depth, &part.depth);
+        at.paste_aov(&mut self.id, &part.id);
+        at.paste_aov(&mut self.primitive, &part.primitive);
+        at.paste_aov(&mut self.alpha, &part.alpha);
     }
 
     /// Copies the bands' AOVs (in band order) into the frame.

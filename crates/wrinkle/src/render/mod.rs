@@ -16,6 +16,7 @@ use crate::geometry::frame_lanes::Frame8;
 use crate::geometry::mesh_lanes;
 use crate::geometry::tessellate::{grid, segments_for, Mesh};
 use crate::geometry::{Instance, Primitive, Shape, Surface, TriangleMesh};
+use crate::image::io::Placement;
 use crate::lanes::{mask_of, F8, LANES, V3};
 use crate::light::Light;
 use crate::limits::Limit;
@@ -264,6 +265,9 @@ fn render_view(
     // A transparent background: black and alpha 0 where nothing is seen, colour premultiplied by coverage.
     let background = if options.transparent { Vec3::ZERO } else { cam.background };
     let mut frame = Frame::new(ow, oh, aovs, background);
+    if let Some(c) = options.crop {
+        frame.placement = Placement { x0: c.x0, y0: c.y0, width: ow, height: oh, full_width: w, full_height: h };
+    }
     let band_len = tile_size * w;
     let job = TileJob {
         background,

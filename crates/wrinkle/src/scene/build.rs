@@ -5,7 +5,8 @@
 
 use super::{CameraDesc, Object, Scene};
 use crate::error::{Error, Result};
-use crate::geometry::{Shape, Transform};
+use crate::geometry::billboard::Billboard;
+use crate::geometry::{MeshPart, Shape, Surface, Transform};
 use crate::light::{Light, ShadowSettings, Spot};
 use crate::raster::Projection;
 use crate::shade::Material;
@@ -32,6 +33,80 @@ fn check_point(name: &'static str, p: Vec3) -> Result<Vec3> {
 /// A direction of any non-zero finite length, made unit.
 fn check_direction(name: &'static str, d: Vec3) -> Result<Vec3> {
     check_point(name, d)?.try_normalize().ok_or_else(|| Error::parameter(name, "must not be [0, 0, 0]"))
+}
+
+fn check_length(name: &'static str, x: f32) -> Result<f32> {
+    if !(x > 0.0 && x.is_finite()) {
+        return Err(Error::parameter(name, format!("must be a positive length, got {x}")));
+    }
+    Ok(x)
+}
+
+fn check_points(name: &'static str, points: &[Vec3]) -> Result<()> {
+    match points.iter().find(|p| !p.is_finite()) {
+        Some(p) => Err(Error::parameter(name, format!("must be finite points, got [{}, {}, {}]", p.x, p.y, p.z))),
+        None => Ok(()),
+    }
+}
+
+impl Shape {
+    /// The shape if its sizes are positive and its points finite, a billboard's axis made unit.
+    pub fn validated(self) -> Result<Shape> {
+        match self {
+            Shape::Surface(ref s) => {
+                match *s {
+                    Surface::Sphere { radius } => check_length("radius", radius).map(drop)?,
+                    Surface::Cylinder { radius, height } => {
+                        check_length("radius", radius)?;
+                        check_length("height", height)?;
+                    }
+                    Surface::Torus { major_radius, minor_radius } => {
+                        check_length("major_radius", major_radius)?;
+                        check_length("minor_radius", minor_radius)?;
+                    }
+                    Surface::Patch { ref corners } => check_points("corners", corners)?,
+                    Surface::Bicubic { ref points } => check_points("points", points)?,
+                }
+                Ok(self)
+            }
+            Shape::Box { size } => {
+                if !(size.is_finite() && size.min_element() > 0.0) {
+                    let message = format!("must be positive edge lengths, got [{}, {}, {}]", size.x, size.y, size.z);
+                    return Err(Error::parameter("size", message));
+                }
+                Ok(self)
+            }
+            Shape::Billboard(b) => {
+                let axis = check_point("axis", b.axis)?
+                    .try_normalize()
+                    .ok_or_else(|| Error::parameter("axis", "must be a direction, not [0, 0, 0]"))?;
+                Ok(Shape::Billboard(Billboard {
+                    width: check_length("width", b.width)?,
+                    height: check_length("height", b.height)?,
+                    axis,
+                    ..b
+                }))
+            }
+            // A mesh was validated when it was made (`TriangleMesh::new`).
+            Shape::Mesh(_) => Ok(self),
+        }
+    }
+}
+
+impl Transform {
+    /// The transform if it is finite and scales by no zero.
+    pub fn validated(self) -> Result<Transform> {
+        check_point("translate", self.translate)?;
+        check_point("rotate", self.rotate)?;
+        if !self.scale.is_finite() || self.scale.abs().min_element() == 0.0 {
+            let s = self.scale;
+            return Err(Error::parameter(
+                "scale",
+                format!("must be finite and not zero along any axis, got [{}, {}, {}]", s.x, s.y, s.z),
+            ));
+        }
+        Ok(self)
+    }
 }
 
 impl Projection {
@@ -165,14 +240,18 @@ impl Scene {
         self.materials.len() - 1
     }
 
-    /// Adds `shape`, placed by `transform`, of the material at index `material`; returns its index.
+    /// Adds `shape`, placed by `transform`, of the material at index `material` (a mesh's parts name their
+    /// own); returns its index.
     pub fn add_object(&mut self, shape: Shape, transform: Transform, material: usize) -> Result<usize> {
-        if material >= self.materials.len() {
+        let count = self.materials.len();
+        let parts: &[MeshPart] = if let Shape::Mesh(parts) = &shape { parts } else { &[] };
+        if let Some(m) = std::iter::once(material).chain(parts.iter().map(|p| p.material)).find(|&m| m >= count) {
             return Err(Error::parameter(
                 "material",
-                format!("must index one of the scene's {} materials, got {material}", self.materials.len()),
+                format!("must index one of the scene's {count} materials, got {m}"),
             ));
         }
+        let (shape, transform) = (shape.validated()?, transform.validated()?);
         self.objects.push(Object { shape, transform, material, affine: false });
         Ok(self.objects.len() - 1)
     }

@@ -271,7 +271,7 @@ fn parse_object(path: &str, v: &Value, base: &Path, materials: &mut Vec<Material
         }
     };
     f.only_of_kind(&SHAPE_FIELDS[6..], allowed, &format!("shape \"{kind}\""))?;
-    let len = |key: &str, default: f32| f.number_where(key, Some(default), positive, "a positive length");
+    let len = |key: &str, default: f32| f.number_or(key, default);
     let shape = match kind {
         "sphere" => Shape::Surface(Surface::Sphere { radius: len("radius", 1.0)? }),
         "cylinder" => Shape::Surface(Surface::Cylinder { radius: len("radius", 1.0)?, height: len("height", 2.0)? }),
@@ -293,36 +293,20 @@ fn parse_object(path: &str, v: &Value, base: &Path, materials: &mut Vec<Material
                 ));
             }
             let axis = f.vec3("axis")?.unwrap_or(Vec3::Y);
-            if axis.length() == 0.0 || !axis.is_finite() {
-                return Err(Error::scene(f.at("axis"), "must be a direction, not [0, 0, 0]"));
-            }
             let align = f.choice("align", Align::Screen, &Align::NAMES)?;
             if f.get("axis").is_some() && align == Align::Screen {
                 return Err(Error::scene(f.at("axis"), "only for align = \"world\" or \"axis\""));
             }
-            Shape::Billboard(Billboard {
-                width: len("width", 1.0)?,
-                height: len("height", 1.0)?,
-                align,
-                axis: axis.normalize(),
-            })
+            Shape::Billboard(Billboard { width: len("width", 1.0)?, height: len("height", 1.0)?, align, axis })
         }
         "bicubic" => {
             let v = f.required("points", f.get("points"))?;
             let p = points(&f.at("points"), v, 16)?;
             Shape::Surface(Surface::Bicubic { points: std::array::from_fn(|k| p[k]) })
         }
-        _ => {
-            let size = f.vec3("size")?.unwrap_or(Vec3::ONE);
-            if size.min_element() <= 0.0 {
-                return Err(Error::scene(
-                    f.at("size"),
-                    format!("expected positive edge lengths, got [{}, {}, {}]", size.x, size.y, size.z),
-                ));
-            }
-            Shape::Box { size }
-        }
+        _ => Shape::Box { size: f.vec3("size")?.unwrap_or(Vec3::ONE) },
     };
+    let shape = shape.validated().map_err(|e| f.named(e))?;
     let mut material = match f.get("material") {
         Some(m) => parse_material(&f.at("material"), m, base, Material::default())?,
         None => Material::default(),
@@ -396,14 +380,9 @@ pub(super) fn parse_transform(path: &str, v: &Value) -> Result<Transform> {
         Some(s) => vec3_value(&f.at("scale"), s)?,
         None => Vec3::ONE,
     };
-    if scale.abs().min_element() == 0.0 {
-        return Err(Error::scene(f.at("scale"), "must not be zero along any axis"));
-    }
-    Ok(Transform {
-        translate: f.vec3("translate")?.unwrap_or(Vec3::ZERO),
-        rotate: f.vec3("rotate")?.unwrap_or(Vec3::ZERO),
-        scale,
-    })
+    let translate = f.vec3("translate")?.unwrap_or(Vec3::ZERO);
+    let rotate = f.vec3("rotate")?.unwrap_or(Vec3::ZERO);
+    Transform { translate, rotate, scale }.validated().map_err(|e| f.named(e))
 }
 
 const MATERIAL_FIELDS: &[&str] = &[

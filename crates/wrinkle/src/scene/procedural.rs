@@ -5,6 +5,7 @@
 //! Every field of the pattern is optional; the default space is "object" (a solid texture).
 //! And hypertextures: `[[volume]]` tables with their `[[volume.modulate]]` functions.
 
+use super::build::check_colour;
 use super::fields::{quoted, vec3_value, Fields};
 use crate::procedural::effects::{Kind, Params, Pattern};
 use crate::procedural::fbm::Sum;
@@ -139,13 +140,7 @@ pub fn parse_volume(path: &str, v: &Value) -> Result<Hypertexture> {
         return Err(Error::scene(f.at(key), format!("applies to shading = \"{owner}\" only")));
     }
     let shading = match mode {
-        "lit" => {
-            let c = f.vec3("color")?.unwrap_or(Vec3::splat(0.8));
-            if c.min_element() < 0.0 {
-                return Err(Error::scene(f.at("color"), "expected non-negative colour components"));
-            }
-            Shading::Lit { albedo: c }
-        }
+        "lit" => Shading::Lit { albedo: super::load::colour(&f, "color", Vec3::splat(0.8))? },
         _ => Shading::Emissive {
             colors: match f.get("colors") {
                 Some(c) => colors(&f.at("colors"), c)?,
@@ -219,13 +214,15 @@ fn colors(path: &str, v: &Value) -> Result<Vec<[f32; 3]>> {
     if list.is_empty() {
         return Err(Error::scene(path, "expected at least one colour"));
     }
-    let out: Vec<[f32; 3]> = list
-        .iter()
+    list.iter()
         .enumerate()
-        .map(|(i, c)| vec3_value(&format!("{path}[{i}]"), c).map(|v| v.to_array()))
-        .collect::<Result<_>>()?;
-    if out.iter().any(|c| c.iter().any(|x| *x < 0.0)) {
-        return Err(Error::scene(path, "expected non-negative colour components"));
-    }
-    Ok(out)
+        .map(|(i, c)| {
+            let at = format!("{path}[{i}]");
+            let colour = vec3_value(&at, c)?;
+            check_colour("colour", colour).map(|c| c.to_array()).map_err(|e| match e {
+                Error::Parameter { message, .. } => Error::scene(at, message),
+                other => other,
+            })
+        })
+        .collect()
 }

@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use wrinkle::bump::schlag::{emboss_image, light_direction, to_grey8, Emboss};
 use wrinkle::image::stream::{write_rows, ImageRows, PngCompression, RowFormat};
 use wrinkle::image::strips::{filter_3x3, Edges, Window};
+use wrinkle::ImageRef;
 
 /// The masks of the notes: the top row of each is the image row above the pixel.
 const MASK_U: [[f64; 3]; 3] = [[-1.0, 0.0, 1.0], [-1.0, 0.0, 1.0], [-1.0, 0.0, 1.0]];
@@ -62,9 +63,9 @@ fn three_by_three_worked_by_hand() {
     // shade = 60 / 317.8443 = 0.188772..., 8-bit 48.137 -> 48.
     // Straight above (elevation 90): shade = 255 / 317.8443 = 0.802279..., 8-bit 204.58 -> 205.
     let img: Vec<f32> = (1..=9).map(|k| 10.0 * k as f32).collect();
-    let left = emboss_image(&img, 3, 3, &Emboss::new(180.0, 0.0, 6.0).unwrap());
+    let left = emboss_image(ImageRef::new(3, 3, &img).unwrap(), &Emboss::new(180.0, 0.0, 6.0).unwrap()).pixels;
     assert!((left[4] - 0.188_772_2).abs() < 1e-6, "{}", left[4]);
-    let above = emboss_image(&img, 3, 3, &Emboss::new(0.0, 90.0, 6.0).unwrap());
+    let above = emboss_image(ImageRef::new(3, 3, &img).unwrap(), &Emboss::new(0.0, 90.0, 6.0).unwrap()).pixels;
     assert!((above[4] - 0.802_279_3).abs() < 1e-6, "{}", above[4]);
     let mut bytes = [0u8; 2];
     to_grey8(&[left[4], above[4]], &mut bytes);
@@ -83,7 +84,7 @@ fn every_pixel_matches_the_formula() {
     let img: Vec<f32> = bytes.iter().map(|&b| (b / 4) as f32).collect();
     let img64: Vec<f64> = img.iter().map(|&v| v as f64).collect();
     for (az, el, width) in [(135.0, 45.0, 3.0), (10.0, 80.0, 1.0), (250.0, 5.0, 40.0), (-30.0, 30.0, 0.5)] {
-        let got = emboss_image(&img, w, h, &Emboss::new(az, el, width).unwrap());
+        let got = emboss_image(ImageRef::new(w, h, &img).unwrap(), &Emboss::new(az, el, width).unwrap()).pixels;
         let want = reference(&img64, w, h, az as f64, el as f64, width as f64);
         for (k, (g, r)) in got.iter().zip(&want).enumerate() {
             assert!((*g as f64 - r).abs() < 2e-6, "az {az} el {el} w {width} pixel {k}: {g} vs {r}");
@@ -97,7 +98,10 @@ fn flat_regions_give_exactly_the_flat_shade() {
     for (az, el) in [(135.0f32, 45.0f32), (0.0, 0.0), (300.0, 89.0), (45.0, 90.0)] {
         let e = Emboss::new(az, el, 3.0).unwrap();
         let flat = light_direction(az, el)[2];
-        assert!(emboss_image(&img, 16, 9, &e).iter().all(|&s| s == flat), "az {az} el {el}");
+        assert!(
+            emboss_image(ImageRef::new(16, 9, &img).unwrap(), &e).pixels.iter().all(|&s| s == flat),
+            "az {az} el {el}"
+        );
         assert_eq!(flat, (el as f64).to_radians().sin() as f32);
     }
     // A flat patch inside a busy image: only pixels whose 3x3 neighbourhood is flat get the shortcut.
@@ -109,7 +113,7 @@ fn flat_regions_give_exactly_the_flat_shade() {
         }
     }
     let e = Emboss::new(135.0, 45.0, 3.0).unwrap();
-    let out = emboss_image(&img, w, h, &e);
+    let out = emboss_image(ImageRef::new(w, h, &img).unwrap(), &e).pixels;
     for y in 4..8 {
         for x in 4..8 {
             assert_eq!(out[y * w + x], e.flat);
@@ -123,7 +127,7 @@ fn a_ramp_gives_one_shade_away_from_the_border() {
     let (w, h) = (40, 10);
     let img: Vec<f32> = (0..w * h).map(|k| 4.0 * (k % w) as f32).collect();
     let (az, el, width) = (30.0f32, 40.0f32, 5.0f32);
-    let out = emboss_image(&img, w, h, &Emboss::new(az, el, width).unwrap());
+    let out = emboss_image(ImageRef::new(w, h, &img).unwrap(), &Emboss::new(az, el, width).unwrap()).pixels;
     let l = light_direction(az, el).map(f64::from);
     let nz = 6.0 * 255.0 / width as f64;
     let want = (-24.0 * l[0] + nz * l[2]) / (24.0f64 * 24.0 + nz * nz).sqrt();
@@ -148,8 +152,8 @@ fn turning_the_light_by_180_degrees_mirrors_a_symmetric_bump() {
         })
         .collect();
     for (az, el) in [(135.0, 45.0), (20.0, 30.0), (90.0, 60.0)] {
-        let a = emboss_image(&img, w, h, &Emboss::new(az, el, 3.0).unwrap());
-        let b = emboss_image(&img, w, h, &Emboss::new(az + 180.0, el, 3.0).unwrap());
+        let a = emboss_image(ImageRef::new(w, h, &img).unwrap(), &Emboss::new(az, el, 3.0).unwrap()).pixels;
+        let b = emboss_image(ImageRef::new(w, h, &img).unwrap(), &Emboss::new(az + 180.0, el, 3.0).unwrap()).pixels;
         let mut lit_differently = 0;
         for y in 0..h {
             for x in 0..w {
@@ -204,7 +208,7 @@ fn streamed_strips_equal_the_whole_image() {
     .unwrap();
     let img: Vec<f32> = bytes.iter().map(|&b| b as f32).collect();
     let mut whole = vec![0u8; w * h];
-    to_grey8(&emboss_image(&img, w, h, &e), &mut whole);
+    to_grey8(&emboss_image(ImageRef::new(w, h, &img).unwrap(), &e).pixels, &mut whole);
     assert_eq!(streamed.len(), whole.len());
     assert!(streamed == whole, "first difference at {:?}", streamed.iter().zip(&whole).position(|(a, b)| a != b));
     let _ = std::fs::remove_dir_all(&dir);

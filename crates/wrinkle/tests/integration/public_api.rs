@@ -8,7 +8,8 @@ use std::sync::Arc;
 use wrinkle::texture::mip::pyramid;
 use wrinkle::{
     render, BumpMap, BumpSource, BumpTable, CameraDesc, Error, Filter, FilterOptions, FilteredTexture, Footprint,
-    Image, ImageRef, Light, MipFilter, Projection, RenderOptions, Scene, Shape, TextureOptions, Transform, Wrap,
+    Image, ImageRef, Light, Material, MipFilter, Projection, RenderOptions, Scene, Shape, Surface, TextureOptions,
+    Transform, Wrap,
 };
 
 const TOML: &str = r#"
@@ -80,6 +81,16 @@ fn constructors_refuse_bad_values_by_the_parameters_name() {
     assert_eq!(parameter(BumpMap::new(BumpSource::Table(Arc::new(table)), f32::NAN)), "scale");
     let mut scene = Scene::new(CameraDesc::default());
     assert_eq!(parameter(scene.add_object(Shape::Box { size: Vec3::ONE }, Transform::default(), 0)), "material");
+    let sphere = |radius| Shape::Surface(Surface::Sphere { radius });
+    let material = scene.add_material(Material::default());
+    assert_eq!(parameter(scene.add_object(sphere(-1.0), Transform::default(), material)), "radius");
+    assert_eq!(
+        parameter(scene.add_object(Shape::Box { size: Vec3::new(1.0, f32::NAN, 1.0) }, Transform::default(), material)),
+        "size"
+    );
+    let flat = Transform { scale: Vec3::new(1.0, 0.0, 1.0), ..Transform::default() };
+    assert_eq!(parameter(scene.add_object(sphere(1.0), flat, material)), "scale");
+    assert_eq!(scene.add_object(sphere(1.0), Transform::default(), material).unwrap(), 0);
     assert_eq!(parameter(ImageRef::new(3, 2, &[0.0f32; 5])), "image");
     assert_eq!(parameter(ImageRef::new(0, 2, &[0.0f32; 0])), "image");
     // The same constructors check a scene file, their errors worded as the field's path.
@@ -89,6 +100,9 @@ fn constructors_refuse_bad_values_by_the_parameters_name() {
     let bad = TOML.replace("direction = [-1.0, -1.0, -2.0]", "direction = [0, 0, 0]");
     let e = Scene::parse(&bad, std::path::Path::new(".")).err().expect("a zero direction is refused").to_string();
     assert_eq!(e, "lights[0].direction: must not be [0, 0, 0]");
+    let bad = TOML.replace("radius = 1.0", "radius = -1.0");
+    let e = Scene::parse(&bad, std::path::Path::new(".")).err().expect("a negative radius is refused").to_string();
+    assert_eq!(e, "objects[0].radius: must be a positive length, got -1");
 }
 
 /// A small sRGB-free test picture: every texel different.
