@@ -17,10 +17,10 @@ pub fn scene() -> Result<Scene> {
     let camera = CameraDesc::new(Vec3::new(0.5, 1.0, 4.0), Vec3::ZERO, Vec3::Y, projection, Vec3::ZERO)?;
     let mut scene = Scene::new(camera);
     scene
-        .add_light(Light::directional(Vec3::new(-1.0, -1.0, -2.0), Vec3::new(1.0, 0.9, 0.8) * 1.5)?)
-        .add_light(Light::ambient(Vec3::splat(0.1))?);
-    let grid = Generator::Grid(GridParams { cells: 8, line_width: 0.2, soft: 0.1 }).generate(64)?;
-    let bump = BumpMap::new(BumpSource::Table(Arc::new(BumpTable::new(&grid))), 0.04)?;
+        .add_light(Light::directional(Vec3::new(1.0, -1.0, -1.0), Vec3::new(1.0, 0.95, 0.9))?)
+        .add_light(Light::ambient(Vec3::splat(0.08))?);
+    let grid = Generator::Grid(GridParams { cells: 16, line_width: 0.1, soft: 0.2 }).generate(256)?;
+    let bump = BumpMap::new(BumpSource::Table(Arc::new(BumpTable::new(&grid))), 0.01)?;
     let red = scene.add_material(Material { color: Vec3::new(0.8, 0.3, 0.2), bump: Some(bump), ..Material::default() });
     let turned = Transform { rotate: Vec3::new(0.0, 30.0, 0.0), ..Transform::default() };
     scene.add_object(Shape::Surface(Surface::Sphere { radius: 1.0 }), turned, red)?;

@@ -46,7 +46,7 @@ pub use image::{GreyImage, Image, ImageRef};
 pub use light::{Light, ShadowSettings};
 pub use mapping::Mapping;
 pub use procedural::Perlin;
-pub use render::{render, render_until, render_with_progress, Aovs, Crop, Frame, RenderOptions};
+pub use render::{render, render_parts, render_until, render_with_progress, Aovs, Crop, Frame, RenderOptions};
 pub use scene::{CameraDesc, Projection, Scene};
 pub use shade::Material;
 pub use texture::{Filter, FilterOptions, FilteredTexture, Footprint, MipFilter, TextureOptions, Wrap};

@@ -187,17 +187,52 @@ struct View<'a> {
     stop: Option<&'a AtomicBool>,
 }
 
+/// Renders the frame in parts, each a crop of it (`RenderOptions::crop` is not used), with one setup for
+/// them all (tessellation, binning, shadow maps): `each` receives the parts' frames in order, each part's
+/// pixels exactly the whole frame's. The whole frame may be larger than one render holds; each part is
+/// checked as a crop is.
+pub fn render_parts(
+    scene: &Scene,
+    options: &RenderOptions,
+    parts: &[Crop],
+    each: &mut dyn FnMut(Frame) -> Result<()>,
+) -> Result<()> {
+    let view = View { camera: &scene.camera, hidden: None, object_views: true, stop: None };
+    let parts: Vec<Option<Crop>> = parts.iter().map(|&c| Some(c)).collect();
+    render_view_parts(scene, &view, options, &parts, &|_, _| {}, each)
+}
+
 fn render_view(
     scene: &Scene,
     view: &View,
     options: &RenderOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Frame> {
-    options.validate()?;
-    let (w, h) = (options.width, options.height);
-    let (ow, oh) = options.output_size();
+    let mut frame = None;
+    render_view_parts(scene, view, options, &[options.crop], progress, &mut |f| {
+        frame = Some(f);
+        Ok(())
+    })?;
+    Ok(frame.expect("one part rendered"))
+}
+
+/// Renders each of `parts` (a crop, or `None`: the whole frame) of the frame with one setup for all.
+fn render_view_parts(
+    scene: &Scene,
+    view: &View,
+    options: &RenderOptions,
+    parts: &[Option<Crop>],
+    progress: &(dyn Fn(usize, usize) + Sync),
+    each: &mut dyn FnMut(Frame) -> Result<()>,
+) -> Result<()> {
     let aovs = Aovs { alpha: options.transparent || options.aovs.alpha, ..options.aovs };
-    crate::limits::reserve((ow * oh) as u64 * aovs.bytes_per_pixel(), || format!("a {ow}x{oh} frame"))?;
+    for &crop in parts {
+        let part = RenderOptions { crop, ..options.clone() };
+        part.validate()?;
+        let (ow, oh) = part.output_size();
+        crate::limits::reserve((ow * oh) as u64 * aovs.bytes_per_pixel(), || format!("a {ow}x{oh} frame"))?;
+    }
+    let (w, h) = (options.width, options.height);
     let mut stats = Stats::default();
     let cam = view.camera;
     let camera = Camera::new(cam.eye, cam.look_at, cam.up, cam.projection, w as u32, h as u32);
@@ -259,16 +294,10 @@ fn render_view(
     shade_ctx.shadows = shadows.as_ref();
     stats.shadow_ms = ms(t);
 
-    let t = Instant::now();
     let replacing: Vec<bool> =
         instances.iter().map(|i| options.bump && scene.materials[i.material].replaces_depth()).collect();
     // A transparent background: black and alpha 0 where nothing is seen, colour premultiplied by coverage.
     let background = if options.transparent { Vec3::ZERO } else { cam.background };
-    let mut frame = Frame::new(ow, oh, aovs, background);
-    if let Some(c) = options.crop {
-        frame.placement = Placement { x0: c.x0, y0: c.y0, width: ow, height: oh, full_width: w, full_height: h };
-    }
-    let band_len = tile_size * w;
     let job = TileJob {
         background,
         aovs,
@@ -281,21 +310,52 @@ fn render_view(
         blend_order: &blend_order,
         ..TileJob::visibility(&drawn, &bins, &camera, &pattern, &instances, &shade_ctx, &cutoffs, &replacing)
     };
+    for &part in parts {
+        let t = Instant::now();
+        let (ow, oh) = part.map_or((w, h), |c| (c.width(), c.height()));
+        let mut frame = Frame::new(ow, oh, aovs, background);
+        if let Some(c) = part {
+            frame.placement = Placement { x0: c.x0, y0: c.y0, width: ow, height: oh, full_width: w, full_height: h };
+        }
+        let bands = render_bands(&job, &mut frame.color, part, &bins, options, view, progress);
+        frame.gather_aovs(bands);
+        if stopped(view) {
+            return Err(Error::Interrupted);
+        }
+        stats.raster_shade_ms = ms(t);
+        frame.stats = stats;
+        each(frame)?;
+    }
+    Ok(())
+}
+
+/// The colour of the frame's pixels (of the crop, where one is given) into `color`, and their AOVs band by band of
+/// tiles, on every worker; `progress` is told as bands finish.
+fn render_bands(
+    job: &TileJob,
+    color: &mut [[f32; 3]],
+    crop: Option<Crop>,
+    bins: &Bins,
+    options: &RenderOptions,
+    view: &View,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Vec<frame::AovBand> {
+    let (w, h, tile_size) = (options.width, options.height, bins.tile_size);
+    let band_len = tile_size * w;
     let (bands_done, bands) = (AtomicUsize::new(0), bins.tiles_y);
-    let band_aovs: Vec<frame::AovBand> = match options.crop {
+    match crop {
         Some(crop) => {
             let bands = crop.y1.div_ceil(tile_size) - crop.y0 / tile_size;
             let done = || progress(bands_done.fetch_add(1, Ordering::Relaxed) + 1, bands);
-            crop_bands(&job, &mut frame.color, crop, (w, h, options.spp), tile_size, &|| stopped(view), &done)
+            crop_bands(job, color, crop, (w, h, options.spp), tile_size, &|| stopped(view), &done)
         }
-        None => frame
-            .color
+        None => color
             .par_chunks_mut(band_len)
             .enumerate()
             .map_init(
                 || TileScratch::new(tile_size, options.spp),
                 |scratch, (ty, color)| {
-                    let mut aov = frame::AovBand::new(aovs, color.len(), options.spp);
+                    let mut aov = frame::AovBand::new(job.aovs, color.len(), options.spp);
                     if stopped(view) {
                         return aov;
                     }
@@ -307,14 +367,7 @@ fn render_view(
                 },
             )
             .collect(),
-    };
-    if stopped(view) {
-        return Err(Error::Interrupted);
     }
-    frame.gather_aovs(band_aovs);
-    stats.raster_shade_ms = ms(t);
-    frame.stats = stats;
-    Ok(frame)
 }
 
 /// The environment as a light, with the convolved maps its materials need (made on first use, then kept

@@ -4,6 +4,7 @@
 
 use crate::image::Image;
 use glam::{DVec3, DVec4, Vec3, Vec4};
+use rayon::prelude::*;
 use std::ops::{Add, Mul, Sub};
 
 /// A texel value: filters only add, subtract and scale them.
@@ -87,13 +88,21 @@ impl<T: Texel> Plane<T> {
         Self::from_top_rows_with(width, height, rows_from_top, |t| t)
     }
 
-    /// [`Plane::from_top_rows`] converting each pixel on the way (no intermediate copy of the image).
-    pub fn from_top_rows_with<S: Copy>(width: usize, height: usize, rows_from_top: &[S], f: impl Fn(S) -> T) -> Self {
-        let mut texels = Vec::with_capacity(width * height);
-        for j in 0..height {
-            let row = height - 1 - j;
-            texels.extend(rows_from_top[row * width..(row + 1) * width].iter().map(|&s| f(s)));
-        }
+    /// [`Plane::from_top_rows`] converting each pixel on the way (no intermediate copy of the image), rows on
+    /// every worker: a large texture is memory-bound here.
+    pub fn from_top_rows_with<S: Copy + Sync>(
+        width: usize,
+        height: usize,
+        rows_from_top: &[S],
+        f: impl Fn(S) -> T + Sync,
+    ) -> Self {
+        let mut texels = vec![T::default(); width * height];
+        texels.par_chunks_mut(width.max(1)).enumerate().for_each(|(j, row)| {
+            let from = height - 1 - j;
+            for (t, &s) in row.iter_mut().zip(&rows_from_top[from * width..(from + 1) * width]) {
+                *t = f(s);
+            }
+        });
         Plane { width, height, texels }
     }
 
@@ -106,7 +115,13 @@ impl<T: Texel> Plane<T> {
 impl Plane<Vec4> {
     /// The texels as an image of RGBA pixels, flipped back so that row 0 is the top.
     pub fn to_image(&self) -> Image<[f32; 4]> {
-        Image::from_fn(self.width, self.height, |x, y| self.texels[(self.height - 1 - y) * self.width + x].to_array())
+        let mut pixels = vec![[0.0; 4]; self.width * self.height];
+        pixels.par_chunks_mut(self.width.max(1)).enumerate().for_each(|(y, row)| {
+            for (p, t) in row.iter_mut().zip(self.row(self.height - 1 - y)) {
+                *p = t.to_array();
+            }
+        });
+        Image { width: self.width, height: self.height, pixels }
     }
 }
 

@@ -20,19 +20,18 @@ fov_y = 35
 
 [[light]]
 type = "directional"
-direction = [-1.0, -1.0, -2.0]
-color = [1.0, 0.9, 0.8]
-intensity = 1.5
+direction = [1.0, -1.0, -1.0]
+color = [1.0, 0.95, 0.9]
 
 [[light]]
 type = "ambient"
-intensity = 0.1
+intensity = 0.08
 
 [[object]]
 shape = "sphere"
 radius = 1.0
 transform = { rotate = [0, 30, 0] }
-material = { color = [0.8, 0.3, 0.2], bump = { generator = { kind = "grid", size = 64, cells = 8, line_width = 0.2, soft = 0.1 }, scale = 0.04 } }
+material = { color = [0.8, 0.3, 0.2], bump = { generator = { kind = "grid", size = 256, cells = 16, line_width = 0.1, soft = 0.2 }, scale = 0.01 } }
 "#;
 
 /// The example of the README and crates/wrinkle/examples: a scene built with the constructors.
@@ -97,7 +96,7 @@ fn constructors_refuse_bad_values_by_the_parameters_name() {
     let bad = TOML.replace("fov_y = 35", "fov_y = 180");
     let e = Scene::parse(&bad, std::path::Path::new(".")).err().expect("fov_y = 180 is refused").to_string();
     assert_eq!(e, "camera.fov_y: must be degrees between 0 and 180, got 180");
-    let bad = TOML.replace("direction = [-1.0, -1.0, -2.0]", "direction = [0, 0, 0]");
+    let bad = TOML.replace("direction = [1.0, -1.0, -1.0]", "direction = [0, 0, 0]");
     let e = Scene::parse(&bad, std::path::Path::new(".")).err().expect("a zero direction is refused").to_string();
     assert_eq!(e, "lights[0].direction: must not be [0, 0, 0]");
     let bad = TOML.replace("radius = 1.0", "radius = -1.0");
