@@ -171,15 +171,15 @@ impl Edges {
         for (f, face) in faces.iter().enumerate() {
             let mut ids = [0; 4];
             if alive[f] {
-                for k in 0..face.sides as usize {
+                for (k, id) in ids.iter_mut().enumerate().take(face.sides as usize) {
                     let ends = key(of(face.corner(k)), of(face.corner(k + 1)));
                     let user = (f as u32, k as u8);
-                    ids[k] = *index.entry(ends).or_insert_with(|| {
+                    *id = *index.entry(ends).or_insert_with(|| {
                         edges.ends.push(ends);
                         edges.users.push([user; 2]);
                         edges.ends.len() as u32 - 1
                     });
-                    let users = &mut edges.users[ids[k] as usize];
+                    let users = &mut edges.users[*id as usize];
                     if users[0] != user {
                         users[1] = user;
                     }
@@ -359,7 +359,9 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
     }
     // The inner points and triangles of each face, in parallel, numbered afterwards.
     let shared = &diced.positions;
-    let parts: Vec<(Vec<Vec3>, Vec<BasePoint>, Vec<[u32; 3]>)> = (0..faces.len())
+    // Each face's inner points, where they come from, and its triangles.
+    type FacePart = (Vec<Vec3>, Vec<BasePoint>, Vec<[u32; 3]>);
+    let parts: Vec<FacePart> = (0..faces.len())
         .into_par_iter()
         .map(|f| {
             let (n, m) = grids[f];
@@ -389,9 +391,15 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
                         _ => None,
                     };
                     let id = match side {
-                        Some((k, s, of)) => {
-                            snapped(face, k, s, of, rates[welded[k] as usize], &edges, own[k], &edge_first)
-                        }
+                        Some((k, s, of)) => snapped(
+                            face,
+                            k,
+                            s,
+                            of,
+                            rates[welded[k] as usize],
+                            edges.ends[own[k] as usize],
+                            edge_first[own[k] as usize],
+                        ),
                         None => {
                             let at = face.point(i as f32 / n as f32, j as f32 / m as f32);
                             points.push(displaced(&surface.sample(at)));
@@ -448,7 +456,8 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
 /// `rate` - 1 points or an end, the nearest. Since `rate` <= `n`, consecutive grid points snap to the same or
 /// consecutive points (no edge point is skipped), and a corner's first cells reach at most two grid steps
 /// along its edges, so they never turn over.
-fn snapped(face: &Face, k: usize, s: u32, n: u32, rate: u32, edges: &Edges, edge: u32, first: &[u32]) -> u32 {
+/// `ends` are the edge's two vertices and `first` the number of its first own point.
+fn snapped(face: &Face, k: usize, s: u32, n: u32, rate: u32, ends: EdgeKey, first: u32) -> u32 {
     let (from, to) = (face.corner(k), face.corner(k + 1));
     let q = (2 * s * rate + n) / (2 * n);
     if q == 0 {
@@ -458,8 +467,8 @@ fn snapped(face: &Face, k: usize, s: u32, n: u32, rate: u32, edges: &Edges, edge
         return to;
     }
     // The edge's own points run from its smaller vertex.
-    let from_smaller = edges.ends[edge as usize].0 == from && from != to;
-    first[edge as usize] + if from_smaller { q - 1 } else { rate - q - 1 }
+    let from_smaller = ends.0 == from && from != to;
+    first + if from_smaller { q - 1 } else { rate - q - 1 }
 }
 
 /// Welds vertices closer than `tolerance`, or with `tolerance` 0 bit-equal ones: each vertex's welded

@@ -31,7 +31,8 @@ impl SamplePattern {
         Some(SamplePattern { offsets })
     }
 
-    pub fn len(&self) -> usize {
+    /// Samples per pixel.
+    pub fn count(&self) -> usize {
         self.offsets.len()
     }
 

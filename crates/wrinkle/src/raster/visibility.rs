@@ -319,7 +319,7 @@ pub fn cover(
     hit: impl FnMut(usize, usize, usize, f32, f32),
 ) {
     // A fixed sample count unrolls the per-pixel sample loop.
-    match pattern.len() {
+    match pattern.count() {
         1 => cover_n::<1>(tri, pattern, rect, hit),
         4 => cover_n::<4>(tri, pattern, rect, hit),
         _ => cover_n::<16>(tri, pattern, rect, hit),
