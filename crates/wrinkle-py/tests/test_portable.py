@@ -1,6 +1,7 @@
 """The portable module (baseline x86-64, for CPUs without AVX2) gives the x86-64-v3 module's results bit for
-bit, is the one the package loads on a CPU without AVX2 (qemu-user emulating a Westmere), and is chosen by
-WRINKLE_BUILD=portable on any CPU."""
+bit, is the one the package loads on a CPU without AVX2 (qemu-user emulating a Sandy Bridge: AVX, no AVX2 or
+FMA), and is chosen by WRINKLE_BUILD=portable on any CPU. (NumPy 2.4's wheels need x86-64-v2 as NumPy counts it,
+more than qemu's Westmere model offers: NumPy itself stops there. The CLI's test runs on the Westmere.)"""
 
 import os
 import shutil
@@ -63,7 +64,7 @@ def test_a_cpu_without_avx2_loads_the_portable_module(tmp_path):
         assert not os.environ.get("CI"), "CI must install qemu-user for this test"
         pytest.skip("qemu-x86_64 not found")
     native = run_workload(tmp_path, "native")
-    old = run_workload(tmp_path, "westmere", prefix=("qemu-x86_64", "-cpu", "Westmere"))
+    old = run_workload(tmp_path, "sandybridge", prefix=("qemu-x86_64", "-cpu", "SandyBridge"))
     assert str(old["build"]) == "x86-64"
     assert_same_bits(native, old, exempt=FFT_BY_CPU)
 
