@@ -93,10 +93,7 @@ impl NormalMap {
     /// The unit normal of every pixel of a whole height image held in memory (heights in [0, 1], row 0 at
     /// the top; an image or a view of the caller's buffer).
     pub fn normals_image<'a>(&self, heights: impl Into<ImageRef<'a, f32>>, edges: Edges) -> Image<[f32; 3]> {
-        let heights = heights.into();
-        let mut out = Image::new(heights.width(), heights.height(), [0.0; 3]);
-        let size = (heights.width(), heights.height());
-        filter_rows_in_memory(heights.pixels(), size, edges, &mut out.pixels, |_, win, o| {
+        filter_rows_in_memory(heights, edges, [0.0; 3], |_, win, o| {
             let n = o.len();
             let mut planes = vec![0.0; 3 * n];
             let (nx, rest) = planes.split_at_mut(n);
@@ -105,16 +102,12 @@ impl NormalMap {
             for (i, p) in o.iter_mut().enumerate() {
                 *p = [nx[i], ny[i], nz[i]];
             }
-        });
-        out
+        })
     }
 
     /// The slopes (the offset vectors) of every pixel of a whole height image held in memory.
     pub fn slopes_image<'a>(&self, heights: impl Into<ImageRef<'a, f32>>, edges: Edges) -> Image<[f32; 2]> {
-        let heights = heights.into();
-        let mut out = Image::new(heights.width(), heights.height(), [0.0; 2]);
-        let size = (heights.width(), heights.height());
-        filter_rows_in_memory(heights.pixels(), size, edges, &mut out.pixels, |_, win, o| {
+        filter_rows_in_memory(heights, edges, [0.0; 2], |_, win, o| {
             let n = o.len();
             let mut planes = vec![0.0; 2 * n];
             let (gx, gy) = planes.split_at_mut(n);
@@ -122,8 +115,7 @@ impl NormalMap {
             for (i, p) in o.iter_mut().enumerate() {
                 *p = [gx[i], gy[i]];
             }
-        });
-        out
+        })
     }
 }
 

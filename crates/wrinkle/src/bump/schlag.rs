@@ -18,7 +18,7 @@
 
 use crate::error::{Error, Result};
 use crate::image::strips::{filter_rows_in_memory, Edges, Window};
-use crate::image::{GreyImage, Image, ImageRef};
+use crate::image::{GreyImage, ImageRef};
 
 /// The constants of one embossing: the unit light vector, N_z and the flat-pixel shade.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -111,11 +111,7 @@ pub fn modulate_rgb8(shade: &[f32], texture: &[u8], out: &mut [u8]) {
 /// the caller's buffer), border pixels reading the nearest edge pixel: what the streaming command computes,
 /// for callers holding the image.
 pub fn emboss_image<'a>(heights: impl Into<ImageRef<'a, f32>>, emboss: &Emboss) -> GreyImage {
-    let heights = heights.into();
-    let mut out = Image::new(heights.width(), heights.height(), 0.0);
-    let size = (heights.width(), heights.height());
-    filter_rows_in_memory(heights.pixels(), size, Edges::Clamp, &mut out.pixels, |_, win, o| emboss.shade_row(win, o));
-    out
+    filter_rows_in_memory(heights, Edges::Clamp, 0.0, |_, win, o| emboss.shade_row(win, o))
 }
 
 #[cfg(test)]

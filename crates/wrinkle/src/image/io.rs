@@ -366,11 +366,16 @@ fn write_exr_samples(path: &Path, at: Placement, channels: Vec<(&str, FlatSample
     write_atomic(path, |out| out.write_all(bytes.get_ref()).map_err(|e| Error::write(path, e)))
 }
 
-/// Where the first layer of an OpenEXR file lies: its data window within its display window.
-pub fn read_exr_placement(path: &Path) -> Result<Placement> {
+/// The header of an OpenEXR file's first layer, read without its pixels.
+fn first_exr_header(path: &Path) -> Result<exr::meta::header::Header> {
     let meta = exr::meta::MetaData::read_from_buffered(BufReader::new(open_input(path)?), false)
         .map_err(|e| exr_read_error(path, e))?;
-    let header = meta.headers.first().ok_or_else(|| Error::read(path, "not a valid OpenEXR file: it has no layer"))?;
+    meta.headers.into_iter().next().ok_or_else(|| Error::read(path, "not a valid OpenEXR file: it has no layer"))
+}
+
+/// Where the first layer of an OpenEXR file lies: its data window within its display window.
+pub fn read_exr_placement(path: &Path) -> Result<Placement> {
+    let header = first_exr_header(path)?;
     let display = header.shared_attributes.display_window;
     let position = header.own_attributes.layer_position;
     let (x0, y0) = (position.x() - display.position.x(), position.y() - display.position.y());
@@ -392,9 +397,7 @@ pub fn read_exr_placement(path: &Path) -> Result<Placement> {
 /// Half-float and integer channels are converted to f32.
 #[allow(clippy::type_complexity)] // the tuple is the documented interface
 pub fn read_exr_channels(path: &Path) -> Result<(usize, usize, Vec<(String, Vec<f32>)>)> {
-    let meta = exr::meta::MetaData::read_from_buffered(BufReader::new(open_input(path)?), false)
-        .map_err(|e| exr_read_error(path, e))?;
-    let header = meta.headers.first().ok_or_else(|| Error::read(path, "not a valid OpenEXR file: it has no layer"))?;
+    let header = first_exr_header(path)?;
     let (width, height) = (header.layer_size.width(), header.layer_size.height());
     check_size(width, height).map_err(|m| Error::read(path, m))?;
     // Samples are decoded at their stored width, then widened to f32.

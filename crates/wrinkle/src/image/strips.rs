@@ -9,6 +9,7 @@ use std::time::{Duration, Instant};
 use rayon::prelude::*;
 
 use super::stream::ImageRows;
+use super::{Image, ImageRef};
 use crate::error::{Error, Result};
 
 /// What lies beyond the image's edges.
@@ -55,17 +56,20 @@ fn pad(padded: &mut [f32], edges: Edges) {
     padded[n - 1] = right;
 }
 
-/// Fills `out` (`height` rows of equal length) row by row, in parallel, by `row(y, window, out_row)` over an
-/// image held in memory (`width * height` values, row 0 at the top), each window padded by the edge rule:
-/// the in-memory form of [`filter_3x3`], for callers that hold the whole image.
-pub fn filter_rows_in_memory<T: Send>(
-    values: &[f32],
-    (width, height): (usize, usize),
+/// An image of the size of `image` (held in memory, an image or a view of the caller's buffer), every pixel
+/// `fill` at first, filled row by row, in parallel, by `row(y, window, out_row)`, each window padded by the
+/// edge rule: the in-memory form of [`filter_3x3`], for callers that hold the whole image.
+pub fn filter_rows_in_memory<'a, T: Copy + Send + Sync>(
+    image: impl Into<ImageRef<'a, f32>>,
     edges: Edges,
-    out: &mut [T],
+    fill: T,
     row: impl Fn(usize, Window, &mut [T]) + Sync,
-) {
-    let padded: Vec<Vec<f32>> = values
+) -> Image<T> {
+    let image = image.into();
+    let (width, height) = (image.width(), image.height());
+    let mut out = Image::new(width, height, fill);
+    let padded: Vec<Vec<f32>> = image
+        .pixels()
         .chunks_exact(width)
         .map(|r| {
             let mut p = Vec::with_capacity(width + 2);
@@ -80,10 +84,11 @@ pub fn filter_rows_in_memory<T: Send>(
         Edges::Clamp => (y.saturating_sub(1), (y + 1).min(height - 1)),
         Edges::Wrap => ((y + height - 1) % height, (y + 1) % height),
     };
-    out.par_chunks_mut(out.len() / height.max(1)).enumerate().for_each(|(y, o)| {
+    out.pixels.par_chunks_mut(width).enumerate().for_each(|(y, o)| {
         let (up, down) = neighbours(y);
         row(y, Window { above: &padded[up], row: &padded[y], below: &padded[down] }, o)
     });
+    out
 }
 
 /// The last row of an image, padded, read by decoding it to the end (for `Edges::Wrap`, where the first
