@@ -10,7 +10,7 @@ use wrinkle::image::output::OutputSet;
 use wrinkle::render::{Aovs, Transparency};
 use wrinkle::texture::reconstruct::Kernel;
 use wrinkle::texture::Filter;
-use wrinkle::{render_with_progress, Crop, Error, RenderOptions, Result, Scene};
+use wrinkle::{render_with_progress, Crop, Error, PixelFilter, RenderOptions, Result, Sampler, Scene};
 
 #[derive(Args, Debug)]
 #[command(
@@ -59,9 +59,18 @@ pub struct FrameArgs {
     pub width: usize,
     #[arg(long, default_value_t = 720)]
     pub height: usize,
-    /// Samples per pixel: 1 (pixel centre), 4 or 16 (stratified, box-filtered).
+    /// Samples per pixel, 1 to 4096 (1 stratified sample is the pixel's centre).
     #[arg(long, default_value_t = 1)]
     pub spp: usize,
+    /// How samples are placed in each pixel: stratified (jittered strata, the same in every pixel) or sobol
+    /// (the Sobol sequence, Owen-scrambled per pixel: well spread at any --spp).
+    #[arg(long, default_value = "stratified", value_parser = Sampler::NAMES)]
+    pub sampler: String,
+    /// The pixel reconstruction filter: box (the pixel), tent (radius 1), gaussian (1.5, sigma 0.5), mitchell
+    /// (2, B = C = 1/3) or lanczos (3 lobes); NAME:RADIUS for another radius in pixels. Samples are drawn in
+    /// proportion to the filter around each pixel's centre, so a wide filter needs several --spp.
+    #[arg(long, default_value = "box", value_name = "NAME[:RADIUS]")]
+    pub pixel_filter: String,
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
@@ -100,6 +109,8 @@ impl FrameArgs {
             width: self.width,
             height: self.height,
             spp: self.spp,
+            sampler: Sampler::parse(&self.sampler).expect("clap checked the sampler"),
+            pixel_filter: PixelFilter::parse(&self.pixel_filter)?,
             bump: !self.no_bump,
             bump_filter: self.bump_filter.as_deref().map(bump_filter),
             transparency: match self.transparency.as_str() {

@@ -11,7 +11,7 @@ use std::sync::mpsc;
 use std::time::Duration;
 use wrinkle::render::{Aovs, Transparency};
 use wrinkle::texture::Filter;
-use wrinkle::{Crop, RenderOptions};
+use wrinkle::{Crop, PixelFilter, RenderOptions, Sampler};
 
 /// How often a render in progress looks up from its work: for Ctrl-C, and to report progress.
 const POLL: Duration = Duration::from_millis(20);
@@ -60,7 +60,7 @@ impl Scene {
 
     /// Renders a frame: "color" (H, W, 3) linear RGB and each AOV named in `aovs`, as arrays. `progress`,
     /// when given, is called with (done, total) from the calling thread as bands finish.
-    #[pyo3(signature = (width, height, spp, aovs, bump, bump_filter, transparent, transparency, turntable, progress, crop=None))]
+    #[pyo3(signature = (width, height, spp, aovs, bump, bump_filter, transparent, transparency, turntable, progress, crop=None, sampler="stratified", pixel_filter="box"))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
@@ -76,6 +76,8 @@ impl Scene {
         turntable: f32,
         progress: Option<Bound<'py, PyAny>>,
         crop: Option<(usize, usize, usize, usize)>,
+        sampler: &str,
+        pixel_filter: &str,
     ) -> PyResult<Bound<'py, PyDict>> {
         let mut kinds = Aovs::default();
         for name in &aovs {
@@ -98,6 +100,10 @@ impl Scene {
             width,
             height,
             spp,
+            sampler: Sampler::parse(sampler).ok_or_else(|| {
+                invalid(format!("sampler: expected one of {}, got \"{sampler}\"", Sampler::NAMES.join(", ")))
+            })?,
+            pixel_filter: PixelFilter::parse(pixel_filter).py_err()?,
             bump,
             bump_filter: bump_filter
                 .map(|f| {

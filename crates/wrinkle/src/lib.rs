@@ -46,7 +46,9 @@ pub use image::{GreyImage, Image, ImageRef};
 pub use light::{Light, ShadowSettings};
 pub use mapping::Mapping;
 pub use procedural::Perlin;
-pub use render::{render, render_parts, render_until, render_with_progress, Aovs, Crop, Frame, RenderOptions};
+pub use render::{
+    render, render_parts, render_until, render_with_progress, Aovs, Crop, Frame, PixelFilter, RenderOptions, Sampler,
+};
 pub use scene::{CameraDesc, Projection, Scene};
 pub use shade::Material;
 pub use texture::{Filter, FilterOptions, FilteredTexture, Footprint, MipFilter, TextureOptions, Wrap};
@@ -57,6 +59,7 @@ pub use texture::{Filter, FilterOptions, FilteredTexture, Footprint, MipFilter, 
 pub mod internals {
     pub use crate::geometry::tessellate::{grid, Mesh};
     pub use crate::lanes::{F8, LANES, V3};
+    pub use crate::raster::samples::TileOffsets;
     pub use crate::raster::visibility::cover;
     pub use crate::raster::{Camera, Cull, SamplePattern, TriangleSetup};
     pub use crate::texture::ewa::Axes;

@@ -155,6 +155,8 @@ class Scene:
         turntable: float = 0.0,
         progress: Progress = None,
         crop: Optional[Tuple[int, int, int, int]] = None,
+        sampler: str = "stratified",
+        pixel_filter: str = "box",
     ) -> dict:
         """Renders a frame as `wrinkle render` does, returning arrays by name:
 
@@ -166,8 +168,10 @@ class Scene:
         `crop` = (x0, y0, x1, y1) renders only those pixels of the width x height frame (row 0 at the top),
         exactly as the whole frame renders them; the arrays are the crop's size.
 
-        `spp` is 1, 4 or 16 samples per pixel. `progress=True` shows a tqdm bar; a callable gets
-        (done, total). Ctrl-C stops the render promptly (KeyboardInterrupt)."""
+        `spp` is 1 to 4096 samples per pixel, placed by `sampler`: "stratified" (jittered strata, the same in
+        every pixel) or "sobol" (Owen-scrambled per pixel). `pixel_filter` makes the pixel from them: "box",
+        "tent", "gaussian", "mitchell" or "lanczos", or "NAME:RADIUS". `progress=True` shows a tqdm bar; a
+        callable gets (done, total). Ctrl-C stops the render promptly (KeyboardInterrupt)."""
         if isinstance(aov, str):
             aov = (aov,)
         callback, bar = _progress_callback(progress)
@@ -175,7 +179,7 @@ class Scene:
             return self._scene.render(
                 int(width), int(height), int(spp), [str(a) for a in aov], bool(bump), bump_filter,
                 bool(transparent), str(transparency), float(turntable), callback,
-                None if crop is None else tuple(int(c) for c in crop),
+                None if crop is None else tuple(int(c) for c in crop), str(sampler), str(pixel_filter),
             )
         finally:
             if bar is not None:

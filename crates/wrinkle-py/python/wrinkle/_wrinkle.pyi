@@ -45,6 +45,8 @@ class Scene:
         turntable: float,
         progress: Optional[Callable[[int, int], object]],
         crop: Optional[Tuple[int, int, int, int]] = None,
+        sampler: str = "stratified",
+        pixel_filter: str = "box",
     ) -> Dict[str, np.ndarray]: ...
 
 class Texture:

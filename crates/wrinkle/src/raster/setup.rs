@@ -146,12 +146,21 @@ pub struct TriangleSetup<'a> {
     camera: &'a Camera,
     planes: [Vec4; 5],
     polygon: Vec<ClipVertex>,
+    /// Pixels beyond its own that a pixel's samples reach (a pixel filter wider than the pixel): each
+    /// triangle's box grows by as many, so the pixels whose samples may fall on it are all in it.
+    reach: i64,
     pub triangles: Vec<ScreenTriangle>,
 }
 
 impl<'a> TriangleSetup<'a> {
     pub fn new(camera: &'a Camera) -> Self {
-        TriangleSetup { camera, planes: clip_planes(camera), polygon: Vec::with_capacity(9), triangles: Vec::new() }
+        let planes = clip_planes(camera);
+        TriangleSetup { camera, planes, polygon: Vec::with_capacity(9), reach: 0, triangles: Vec::new() }
+    }
+
+    /// The setup for samples that reach `pixels` beyond their own pixel.
+    pub fn reaching(self, pixels: usize) -> Self {
+        TriangleSetup { reach: pixels as i64, ..self }
     }
 
     /// Carries a mesh's object-space vertices into camera space and onto the screen.
@@ -252,10 +261,11 @@ impl<'a> TriangleSetup<'a> {
         // margin of the triangle, which is all the outline needs.
         let pad = if id.outline != Outline::Inside { OUTLINE_MARGIN_PX.ceil() as i64 * SUBPIXEL } else { 0 };
         let (w, h) = (cam.width as i64, cam.height as i64);
-        let minx = (fx.iter().map(|p| p[0]).min().unwrap_or(0) - pad).div_euclid(SUBPIXEL).max(0);
-        let maxx = (fx.iter().map(|p| p[0]).max().unwrap_or(0) + pad).div_euclid(SUBPIXEL).min(w - 1);
-        let miny = (fx.iter().map(|p| p[1]).min().unwrap_or(0) - pad).div_euclid(SUBPIXEL).max(0);
-        let maxy = (fx.iter().map(|p| p[1]).max().unwrap_or(0) + pad).div_euclid(SUBPIXEL).min(h - 1);
+        let reach = self.reach;
+        let minx = ((fx.iter().map(|p| p[0]).min().unwrap_or(0) - pad).div_euclid(SUBPIXEL) - reach).max(0);
+        let maxx = ((fx.iter().map(|p| p[0]).max().unwrap_or(0) + pad).div_euclid(SUBPIXEL) + reach).min(w - 1);
+        let miny = ((fx.iter().map(|p| p[1]).min().unwrap_or(0) - pad).div_euclid(SUBPIXEL) - reach).max(0);
+        let maxy = ((fx.iter().map(|p| p[1]).max().unwrap_or(0) + pad).div_euclid(SUBPIXEL) + reach).min(h - 1);
         if minx > maxx || miny > maxy {
             return;
         }

@@ -3,7 +3,7 @@
 //! parallel; triangles are binned to the tiles their bounding boxes touch.
 
 use super::exact::Outline;
-use super::samples::SamplePattern;
+use super::samples::{SamplePattern, TileOffsets};
 use super::setup::{interpolate8, Interpolated8, ScreenTriangle};
 use super::SUBPIXEL;
 use crate::lanes::{F8, LANES};
@@ -73,6 +73,8 @@ pub struct VisBuffer {
     reopened: Vec<bool>,
     /// The triangles near the samples being peeled one by one.
     nearby: Vec<u32>,
+    /// Where the tile's samples lie in their pixels.
+    pub samples: TileOffsets,
 }
 
 impl VisBuffer {
@@ -93,6 +95,7 @@ impl VisBuffer {
             refused: Vec::new(),
             reopened: Vec::new(),
             nearby: Vec::new(),
+            samples: TileOffsets::default(),
         }
     }
 
@@ -106,31 +109,32 @@ impl VisBuffer {
         triangles: &[ScreenTriangle],
         pattern: &SamplePattern,
     ) {
-        self.begin_tile(bins.tile_size, tile, screen);
+        self.begin_tile(bins.tile_size, tile, screen, pattern);
         self.outline = false;
         for &t in &bins.bins[tile.1 * bins.tiles_x + tile.0] {
             let tri = &triangles[t as usize];
             self.outline |= tri.outline != Outline::Inside;
-            self.rasterize(tri, t, pattern);
+            self.rasterize(tri, t);
         }
     }
 
-    /// Places the buffer on tile (tx, ty) of a `screen` (width, height) and clears it.
-    pub fn begin_tile(&mut self, tile_size: usize, tile: (usize, usize), screen: (usize, usize)) {
+    /// Places the buffer on tile (tx, ty) of a `screen` (width, height), places its samples and clears it.
+    fn begin_tile(&mut self, tile_size: usize, tile: (usize, usize), screen: (usize, usize), pattern: &SamplePattern) {
         self.x0 = tile.0 * tile_size;
         self.y0 = tile.1 * tile_size;
         self.width = tile_size.min(screen.0 - self.x0);
         self.height = tile_size.min(screen.1 - self.y0);
+        self.samples.fill(pattern, (self.x0, self.y0, self.width, self.height));
         let n = self.width * self.height * self.spp;
         self.depth[..n].fill(f32::NEG_INFINITY);
         self.triangle[..n].fill(EMPTY);
     }
 
     /// Depth-tests triangle `id` into the buffer at every sample it covers.
-    fn rasterize(&mut self, tri: &ScreenTriangle, id: u32, pattern: &SamplePattern) {
+    fn rasterize(&mut self, tri: &ScreenTriangle, id: u32) {
         let (x0, y0, width, spp) = (self.x0, self.y0, self.width, self.spp);
         let (depth, triangle) = (&mut self.depth, &mut self.triangle);
-        cover(tri, pattern, (x0, y0, width, self.height), |x, y, s, dx, dy| {
+        cover(tri, &self.samples, (x0, y0, width, self.height), |x, y, s, dx, dy| {
             let d = tri.depth.at(dx, dy);
             let k = ((y - y0) * width + x - x0) * spp + s;
             // Ties go to the lower triangle index, so the result does not depend on binning order.
@@ -147,34 +151,21 @@ impl VisBuffer {
     /// by depth key, then triangle index (the order of `rasterize`), so each pass moves strictly back and
     /// peeling ends. A few samples (an outline's) are tested triangle by triangle; many (a cut-out leaf's)
     /// by rasterizing the tile's triangles again into those samples alone.
-    pub fn peel(
-        &mut self,
-        bins: &Bins,
-        tile: (usize, usize),
-        triangles: &[ScreenTriangle],
-        pattern: &SamplePattern,
-        refused: &[usize],
-    ) {
+    pub fn peel(&mut self, bins: &Bins, tile: (usize, usize), triangles: &[ScreenTriangle], refused: &[usize]) {
         let bin = &bins.bins[tile.1 * bins.tiles_x + tile.0];
         // One sample against the triangles near its band is a few bounds and edge tests each; rasterizing
         // walks the whole bounding box of every triangle of the tile. Samples one by one won on outlines
         // (tens of refused samples a tile, hundreds of triangles) until about an eighth of the tile.
         if refused.len() * 8 < self.width * self.height * self.spp {
-            self.peel_one_by_one(bin, triangles, pattern, refused);
+            self.peel_one_by_one(bin, triangles, refused);
         } else {
-            self.peel_by_rasterizing(bin, triangles, pattern, refused);
+            self.peel_by_rasterizing(bin, triangles, refused);
         }
     }
 
     /// `peel` sample by sample, in bands of eight rows: the triangles that reach a band's samples, then each
     /// sample against those.
-    fn peel_one_by_one(
-        &mut self,
-        bin: &[u32],
-        triangles: &[ScreenTriangle],
-        pattern: &SamplePattern,
-        refused: &[usize],
-    ) {
+    fn peel_one_by_one(&mut self, bin: &[u32], triangles: &[ScreenTriangle], refused: &[usize]) {
         let (x0, y0, width, spp) = (self.x0, self.y0, self.width, self.spp);
         let pixel = move |k: usize| {
             let p = k / spp;
@@ -193,20 +184,14 @@ impl VisBuffer {
                 b[0] <= hi.0 && b[2] >= lo.0 && b[1] <= hi.1 && b[3] >= lo.1
             }));
             for &k in band {
-                self.peel_sample(k, &nearby, triangles, pattern);
+                self.peel_sample(k, &nearby, triangles);
             }
         }
         self.nearby = nearby;
     }
 
     /// `peel` by rasterizing the tile's triangles `bin` again into the refused samples alone.
-    fn peel_by_rasterizing(
-        &mut self,
-        bin: &[u32],
-        triangles: &[ScreenTriangle],
-        pattern: &SamplePattern,
-        refused: &[usize],
-    ) {
+    fn peel_by_rasterizing(&mut self, bin: &[u32], triangles: &[ScreenTriangle], refused: &[usize]) {
         let n = self.depth.len();
         self.refused.resize(n, (f32::INFINITY, EMPTY));
         self.reopened.resize(n, false);
@@ -220,7 +205,7 @@ impl VisBuffer {
         let (depth, triangle, bound, open) = (&mut self.depth, &mut self.triangle, &self.refused, &self.reopened);
         for &id in bin {
             let tri = &triangles[id as usize];
-            cover(tri, pattern, (x0, y0, width, self.height), |x, y, s, dx, dy| {
+            cover(tri, &self.samples, (x0, y0, width, self.height), |x, y, s, dx, dy| {
                 let k = ((y - y0) * width + x - x0) * spp + s;
                 if !open[k] {
                     return;
@@ -239,13 +224,13 @@ impl VisBuffer {
     }
 
     /// `peel` for one sample: the nearest fragment behind its own among the triangles `bin`.
-    fn peel_sample(&mut self, k: usize, bin: &[u32], triangles: &[ScreenTriangle], pattern: &SamplePattern) {
+    fn peel_sample(&mut self, k: usize, bin: &[u32], triangles: &[ScreenTriangle]) {
         let bound = (self.depth[k], self.triangle[k]);
         let mut best = (f32::NEG_INFINITY, EMPTY);
         let (s, pixel) = (k % self.spp, k / self.spp);
         let (x, y) = (self.x0 + pixel % self.width, self.y0 + pixel / self.width);
-        let offset = pattern.offsets[s];
-        let (ox, oy) = pattern.offset(s);
+        let offset = self.samples.at(x, y)[s];
+        let (ox, oy) = self.samples.offset(x, y, s);
         for &id in bin {
             let tri = &triangles[id as usize];
             let [bx0, by0, bx1, by1] = tri.bbox.map(|c| c as usize);
@@ -291,9 +276,16 @@ impl VisBuffer {
 
     /// The screen position of sample `s` of tile pixel (x, y).
     #[inline]
-    pub fn sample_position(&self, x: usize, y: usize, s: usize, pattern: &SamplePattern) -> Vec2 {
-        let (ox, oy) = pattern.offset(s);
-        Vec2::new((self.x0 + x) as f32 + ox, (self.y0 + y) as f32 + oy)
+    pub fn sample_position(&self, x: usize, y: usize, s: usize) -> Vec2 {
+        let (x, y) = (self.x0 + x, self.y0 + y);
+        let (ox, oy) = self.samples.offset(x, y, s);
+        Vec2::new(x as f32 + ox, y as f32 + oy)
+    }
+
+    /// The weight of sample `s` of tile pixel (x, y) under the pattern's filter (+1 or -1).
+    #[inline]
+    pub fn sample_weight(&self, x: usize, y: usize, s: usize, pattern: &SamplePattern) -> f32 {
+        pattern.weight(self.samples.at(self.x0 + x, self.y0 + y)[s])
     }
 }
 
@@ -311,51 +303,63 @@ fn nearer(a: (f32, u32), b: (f32, u32)) -> bool {
 
 /// Calls `hit(x, y, s, dx, dy)` for every sample s of pixel (x, y) inside `rect` = (x0, y0, width, height)
 /// that the triangle covers under the fill rule; (dx, dy) is the sample's offset from the triangle's origin.
+/// `samples` holds the rectangle's sample offsets.
 #[inline]
 pub fn cover(
     tri: &ScreenTriangle,
-    pattern: &SamplePattern,
+    samples: &TileOffsets,
     rect: (usize, usize, usize, usize),
     hit: impl FnMut(usize, usize, usize, f32, f32),
 ) {
-    // A fixed sample count unrolls the per-pixel sample loop.
-    match pattern.count() {
-        1 => cover_n::<1>(tri, pattern, rect, hit),
-        4 => cover_n::<4>(tri, pattern, rect, hit),
-        _ => cover_n::<16>(tri, pattern, rect, hit),
+    // Offsets every pixel shares, in a common count, unroll the per-pixel sample loop.
+    match samples.shared() {
+        Some(o) if o.len() == 1 => cover_same::<1>(tri, o, rect, hit),
+        Some(o) if o.len() == 4 => cover_same::<4>(tri, o, rect, hit),
+        Some(o) if o.len() == 16 => cover_same::<16>(tri, o, rect, hit),
+        _ => cover_each(tri, samples, rect, hit),
     }
 }
 
+/// The pixels of `rect` within the triangle's box, as (x_lo, x_hi, y_lo, y_hi); none where they miss.
 #[inline]
-fn cover_n<const SPP: usize>(
-    tri: &ScreenTriangle,
-    pattern: &SamplePattern,
-    rect: (usize, usize, usize, usize),
-    mut hit: impl FnMut(usize, usize, usize, f32, f32),
-) {
-    let (rx, ry, rw, rh) = rect;
+fn pixels_of(tri: &ScreenTriangle, (rx, ry, rw, rh): (usize, usize, usize, usize)) -> Option<[usize; 4]> {
     let x_lo = (tri.bbox[0] as usize).max(rx);
     let x_hi = (tri.bbox[2] as usize).min(rx + rw - 1);
     let y_lo = (tri.bbox[1] as usize).max(ry);
     let y_hi = (tri.bbox[3] as usize).min(ry + rh - 1);
-    if x_lo > x_hi || y_lo > y_hi {
-        return;
-    }
+    (x_lo <= x_hi && y_lo <= y_hi).then_some([x_lo, x_hi, y_lo, y_hi])
+}
+
+/// The edge function `e` at pixel (x, y)'s corner.
+#[inline]
+fn edge_at_pixel(e: [i64; 3], x: usize, y: usize) -> i64 {
+    e[0] * (x as i64 * SUBPIXEL) + e[1] * (y as i64 * SUBPIXEL) + e[2]
+}
+
+/// `cover` where every pixel has the same SPP offsets: each edge's value at each offset is found once.
+#[inline]
+fn cover_same<const SPP: usize>(
+    tri: &ScreenTriangle,
+    offsets: &[[i64; 2]],
+    rect: (usize, usize, usize, usize),
+    mut hit: impl FnMut(usize, usize, usize, f32, f32),
+) {
+    let Some([x_lo, x_hi, y_lo, y_hi]) = pixels_of(tri, rect) else { return };
     let [e0, e1, e2] = tri.edges;
     // Per-sample offsets of each edge function, with the fill-rule bias folded in, and the sample's
     // position relative to the triangle's origin (less the pixel's).
     let offs: [[i64; 3]; SPP] = std::array::from_fn(|s| {
-        let o = pattern.offsets[s];
+        let o = offsets[s];
         std::array::from_fn(|k| tri.edges[k][0] * o[0] + tri.edges[k][1] * o[1] + tri.bias[k])
     });
     let rel: [(f32, f32); SPP] = std::array::from_fn(|s| {
-        let (ox, oy) = pattern.offset(s);
-        (ox - tri.origin.x, oy - tri.origin.y)
+        let [ox, oy] = offsets[s];
+        (ox as f32 / SUBPIXEL as f32 - tri.origin.x, oy as f32 / SUBPIXEL as f32 - tri.origin.y)
     });
-    let eval = |e: [i64; 3], x: usize, y: usize| e[0] * (x as i64 * SUBPIXEL) + e[1] * (y as i64 * SUBPIXEL) + e[2];
     let (sx0, sx1, sx2) = (e0[0] * SUBPIXEL, e1[0] * SUBPIXEL, e2[0] * SUBPIXEL);
     for y in y_lo..=y_hi {
-        let (mut w0, mut w1, mut w2) = (eval(e0, x_lo, y), eval(e1, x_lo, y), eval(e2, x_lo, y));
+        let (mut w0, mut w1, mut w2) =
+            (edge_at_pixel(e0, x_lo, y), edge_at_pixel(e1, x_lo, y), edge_at_pixel(e2, x_lo, y));
         for x in x_lo..=x_hi {
             for s in 0..SPP {
                 let o = offs[s];
@@ -370,14 +374,42 @@ fn cover_n<const SPP: usize>(
     }
 }
 
+/// `cover` for any count and offsets of each pixel's own.
+#[inline]
+fn cover_each(
+    tri: &ScreenTriangle,
+    samples: &TileOffsets,
+    rect: (usize, usize, usize, usize),
+    mut hit: impl FnMut(usize, usize, usize, f32, f32),
+) {
+    let Some([x_lo, x_hi, y_lo, y_hi]) = pixels_of(tri, rect) else { return };
+    let [e0, e1, e2] = tri.edges;
+    let biased = |e: [i64; 3], k: usize| [e[0], e[1], e[2] + tri.bias[k]];
+    let (b0, b1, b2) = (biased(e0, 0), biased(e1, 1), biased(e2, 2));
+    for y in y_lo..=y_hi {
+        for x in x_lo..=x_hi {
+            let (w0, w1, w2) = (edge_at_pixel(b0, x, y), edge_at_pixel(b1, x, y), edge_at_pixel(b2, x, y));
+            for (s, &[ox, oy]) in samples.at(x, y).iter().enumerate() {
+                let at = |w: i64, e: [i64; 3]| w + e[0] * ox + e[1] * oy;
+                if at(w0, e0) | at(w1, e1) | at(w2, e2) >= 0 {
+                    let (fx, fy) = (ox as f32 / SUBPIXEL as f32, oy as f32 / SUBPIXEL as f32);
+                    hit(x, y, s, x as f32 + (fx - tri.origin.x), y as f32 + (fy - tri.origin.y));
+                }
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::raster::samples::{PixelFilter, Sampler};
     use crate::raster::{Camera, Cull, Projection, TriangleSetup};
     use glam::{Affine3A, Vec3};
 
     /// Both ways of peeling find the same fragments behind, to the bit: a fan of overlapping triangles at
-    /// several depths, every fourth sample refused, at 1 and 16 samples per pixel.
+    /// several depths, every fourth sample refused, at 1 and 16 stratified samples per pixel and 8 scrambled
+    /// Sobol samples spread over a Mitchell filter (offsets past the pixel, each pixel its own).
     #[test]
     fn peeling_one_by_one_equals_rasterizing_again() {
         let camera =
@@ -395,12 +427,17 @@ mod tests {
             ]);
             triangles.push([base, base + 1, base + 2]);
         }
-        let mut setup = TriangleSetup::new(&camera);
-        let vertices = setup.project_vertices(&positions, None, &Affine3A::IDENTITY);
-        setup.add_triangles(&vertices, &triangles, 0, 0, Cull::Nothing, None);
-        let tris = setup.triangles;
-        for spp in [1, 16] {
-            let pattern = SamplePattern::new(spp).expect("1 or 16");
+        let mitchell = PixelFilter::parse("mitchell").unwrap();
+        for (spp, sampler, filter) in [
+            (1, Sampler::Stratified, PixelFilter::default()),
+            (16, Sampler::Stratified, PixelFilter::default()),
+            (8, Sampler::Sobol, mitchell),
+        ] {
+            let pattern = SamplePattern::new(spp, sampler, filter).unwrap();
+            let mut setup = TriangleSetup::new(&camera).reaching(pattern.reach());
+            let vertices = setup.project_vertices(&positions, None, &Affine3A::IDENTITY);
+            setup.add_triangles(&vertices, &triangles, 0, 0, Cull::Nothing, None);
+            let tris = setup.triangles;
             let bins = Bins::new(&tris, 64, 48, 64);
             let peeled = |one_by_one: bool| {
                 let mut vis = VisBuffer::new(64, spp);
@@ -410,9 +447,9 @@ mod tests {
                 assert!(refused.len() > 100);
                 let before: Vec<u32> = refused.iter().map(|&k| vis.triangle[k]).collect();
                 if one_by_one {
-                    vis.peel_one_by_one(&bins.bins[0], &tris, &pattern, &refused);
+                    vis.peel_one_by_one(&bins.bins[0], &tris, &refused);
                 } else {
-                    vis.peel_by_rasterizing(&bins.bins[0], &tris, &pattern, &refused);
+                    vis.peel_by_rasterizing(&bins.bins[0], &tris, &refused);
                 }
                 // Most refused samples find a triangle behind theirs.
                 let behind =

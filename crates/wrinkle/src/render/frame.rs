@@ -170,8 +170,10 @@ impl Frame {
 #[derive(Default)]
 pub(super) struct AovSample {
     count: u32,
-    /// The samples' alpha summed: 1 for each covered one, what translucent surfaces cover of the others.
+    /// The samples' alpha summed, each by its weight: 1 for each covered one, what translucent surfaces
+    /// cover of the others; and the same unweighted.
     coverage: f32,
+    coverage_unweighted: f32,
     normal: Vec3,
     uv: Vec2,
     depth: f32,
@@ -183,15 +185,18 @@ impl AovSample {
     pub fn clear(&mut self) {
         self.count = 0;
         self.coverage = 0.0;
+        self.coverage_unweighted = 0.0;
         self.normal = Vec3::ZERO;
         self.uv = Vec2::ZERO;
         self.depth = 0.0;
         self.objects.clear();
     }
 
-    pub fn add(&mut self, s: &ShadedSample, uv: Vec2, object: u32, triangle: u32) {
+    /// Adds a covered sample of weight `weight` (the pixel filter's sign there).
+    pub fn add(&mut self, s: &ShadedSample, uv: Vec2, object: u32, triangle: u32, weight: f32) {
         self.count += 1;
-        self.coverage += 1.0;
+        self.coverage += weight;
+        self.coverage_unweighted += 1.0;
         self.normal += s.normal;
         self.uv += uv;
         self.depth += s.depth;
@@ -201,9 +206,10 @@ impl AovSample {
         }
     }
 
-    /// Adds what translucent surfaces cover of a sample no opaque surface covers.
-    pub fn cover(&mut self, alpha: f32) {
-        self.coverage += alpha;
+    /// Adds what translucent surfaces cover of a sample no opaque surface covers, times its weight.
+    pub fn cover(&mut self, alpha: f32, weight: f32) {
+        self.coverage += alpha * weight;
+        self.coverage_unweighted += alpha;
     }
 
     /// The object covering most of the pixel's samples (the lower index on a tie) and its first triangle.
@@ -221,12 +227,10 @@ pub(super) struct AovBand {
     id: Vec<f32>,
     primitive: Vec<[u32; 2]>,
     alpha: Vec<f32>,
-    /// 1 / samples per pixel: a covered sample's share of the pixel's alpha.
-    sample_share: f32,
 }
 
 impl AovBand {
-    pub fn new(kinds: Aovs, n: usize, spp: usize) -> AovBand {
+    pub fn new(kinds: Aovs, n: usize) -> AovBand {
         let sized = |on: bool, n: usize| if on { n } else { 0 };
         AovBand {
             kinds,
@@ -236,7 +240,6 @@ impl AovBand {
             id: vec![f32::NAN; sized(kinds.id, n)],
             primitive: vec![NO_PRIMITIVE; sized(kinds.primitive, n)],
             alpha: vec![0.0; sized(kinds.alpha, n)],
-            sample_share: 1.0 / spp as f32,
         }
     }
 
@@ -258,15 +261,15 @@ impl AovBand {
             id: cut(&self.id, &rows, x0, width, band_width),
             primitive: cut(&self.primitive, &rows, x0, width, band_width),
             alpha: cut(&self.alpha, &rows, x0, width, band_width),
-            sample_share: self.sample_share,
         }
     }
 
     /// Stores the pixel's AOVs from its covered samples (NaN stays where none was covered): the mean uv and
-    /// depth, the mean normal made unit again, and the id of the object that covers most samples.
-    pub fn set(&mut self, i: usize, s: &AovSample) {
+    /// depth, the mean normal made unit again, and the id of the object that covers most samples. Alpha is
+    /// the coverage weighted (`weighted`) or not, times `share`: 1 / the weights' sum, or 1 / the samples.
+    pub fn set(&mut self, i: usize, s: &AovSample, share: f32, weighted: bool) {
         if self.kinds.alpha {
-            self.alpha[i] = s.coverage * self.sample_share;
+            self.alpha[i] = if weighted { s.coverage } else { s.coverage_unweighted } * share;
         }
         if s.count == 0 {
             return;

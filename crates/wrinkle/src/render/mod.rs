@@ -23,6 +23,7 @@ use crate::limits::Limit;
 use crate::procedural::hypertexture::Hypertexture;
 use crate::raster::exact::{exact8, frames_at, outline_triangles, start_within, tested_lanes, Outline};
 use crate::raster::refine::{affine_uv8, refine_uv8};
+pub use crate::raster::samples::{PixelFilter, Sampler, MAX_SPP};
 use crate::raster::setup::ProjectedVertex;
 use crate::raster::visibility::EMPTY;
 use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
@@ -47,8 +48,13 @@ const SAG_PX: f32 = 0.25;
 pub struct RenderOptions {
     pub width: usize,
     pub height: usize,
-    /// 1, 4 or 16 samples per pixel.
+    /// Samples per pixel, 1 to [`MAX_SPP`].
     pub spp: usize,
+    /// How the samples are placed in each pixel.
+    pub sampler: Sampler,
+    /// How the samples make the pixel: each is drawn in proportion to the filter's magnitude around the
+    /// pixel's centre and weighs its sign (the box over the pixel by default).
+    pub pixel_filter: PixelFilter,
     pub bump: bool,
     /// Replaces every material's bump filter when set.
     pub bump_filter: Option<Filter>,
@@ -90,6 +96,8 @@ impl Default for RenderOptions {
             width: 1280,
             height: 720,
             spp: 1,
+            sampler: Sampler::default(),
+            pixel_filter: PixelFilter::default(),
             bump: true,
             bump_filter: None,
             turntable_degrees: 0.0,
@@ -105,6 +113,21 @@ impl RenderOptions {
     /// The size of what is rendered and held: the crop, or the whole frame.
     pub fn output_size(&self) -> (usize, usize) {
         self.crop.map_or((self.width, self.height), |c| (c.width(), c.height()))
+    }
+
+    /// Where each pixel's samples lie and what they weigh.
+    fn sample_pattern(&self) -> Result<SamplePattern> {
+        SamplePattern::new(self.spp, self.sampler, self.pixel_filter)
+    }
+
+    /// The side of the square screen tiles: about 4096 samples a tile (64 x 64 at one sample a pixel), at
+    /// least 8 pixels so triangles are not binned into too many.
+    fn tile_size(&self) -> usize {
+        let mut side = 64;
+        while side > 8 && side * side * self.spp > 4096 {
+            side /= 2;
+        }
+        side
     }
 
     pub fn validate(&self) -> Result<()> {
@@ -140,9 +163,7 @@ impl RenderOptions {
                 Limit::FramePixels.hint()
             )));
         }
-        if SamplePattern::new(self.spp).is_none() {
-            return Err(Error::parameter("spp", format!("must be 1, 4 or 16, got {}", self.spp)));
-        }
+        self.sample_pattern()?;
         if !self.turntable_degrees.is_finite() {
             return Err(Error::Invalid("turntable angle must be finite".into()));
         }
@@ -249,14 +270,10 @@ fn render_view_parts(
     };
     let mut instances = placed_for(&camera);
     let diced = displace::displace(&mut instances, &scene.materials, &camera)?;
-    let drawn = Drawn::new(&instances, diced, &camera, &mut stats);
+    let pattern = options.sample_pattern()?;
+    let drawn = Drawn::new(&instances, diced, &camera, pattern.reach(), &mut stats);
     let t = Instant::now();
-    let pattern = SamplePattern::new(options.spp).expect("validated");
-    let tile_size = match options.spp {
-        1 => 64,
-        4 => 32,
-        _ => 16,
-    };
+    let tile_size = options.tile_size();
     // Translucent surfaces stay out of the opaque visibility: the transparent pass composites them over it.
     let blending: Vec<bool> =
         instances.iter().map(|i| scene.materials[i.material].alpha_mode == AlphaMode::Blend).collect();
@@ -355,7 +372,7 @@ fn render_bands(
             .map_init(
                 || TileScratch::new(tile_size, options.spp),
                 |scratch, (ty, color)| {
-                    let mut aov = frame::AovBand::new(job.aovs, color.len(), options.spp);
+                    let mut aov = frame::AovBand::new(job.aovs, color.len());
                     if stopped(view) {
                         return aov;
                     }
@@ -418,7 +435,7 @@ fn crop_bands(
             |scratch, (ty, rows, part)| {
                 let band_rows = tile_size.min(h - ty * tile_size);
                 let mut band = vec![job.background.to_array(); band_rows * w];
-                let mut aov = frame::AovBand::new(job.aovs, band.len(), spp);
+                let mut aov = frame::AovBand::new(job.aovs, band.len());
                 let local = rows.start - ty * tile_size..rows.end - ty * tile_size;
                 if stop() {
                     return aov.cropped(local, crop.x0, cw, w);
@@ -523,8 +540,15 @@ struct Drawn<'a> {
 
 impl<'a> Drawn<'a> {
     /// Tessellates the instances' surfaces for `camera` (or takes their diced or mesh triangles) and sets
-    /// every triangle up, timing both stages into `stats`.
-    fn new(instances: &'a [Instance], mut diced: Vec<Option<Mesh>>, camera: &Camera, stats: &mut Stats) -> Drawn<'a> {
+    /// every triangle up for samples that reach `reach` pixels past their own, timing both stages into
+    /// `stats`.
+    fn new(
+        instances: &'a [Instance],
+        mut diced: Vec<Option<Mesh>>,
+        camera: &Camera,
+        reach: usize,
+        stats: &mut Stats,
+    ) -> Drawn<'a> {
         let t = Instant::now();
         let meshes: Vec<Triangles> = instances
             .par_iter()
@@ -553,7 +577,7 @@ impl<'a> Drawn<'a> {
         stats.tessellate_ms += ms(t);
         let t = Instant::now();
         let first_triangles = first_triangles(instances, &meshes);
-        let triangles = setup_triangles(camera, instances, &meshes, &first_triangles);
+        let triangles = setup_triangles(camera, reach, instances, &meshes, &first_triangles);
         stats.triangles += triangles.len();
         stats.setup_ms += ms(t);
         Drawn { meshes, max_steps, first_triangles, triangles }
@@ -575,6 +599,7 @@ fn first_triangles(instances: &[Instance], meshes: &[Triangles]) -> Vec<u32> {
 /// Clips, projects and sets up every triangle, in parallel over chunks, keeping submission order.
 fn setup_triangles(
     camera: &Camera,
+    reach: usize,
     instances: &[Instance],
     meshes: &[Triangles],
     first: &[u32],
@@ -608,7 +633,7 @@ fn setup_triangles(
         .map(|&(s, start)| {
             let tris = meshes[s].triangles();
             let end = (start + CHUNK).min(tris.len());
-            let mut setup = TriangleSetup::new(camera);
+            let mut setup = TriangleSetup::new(camera).reaching(reach);
             setup.add_triangles(
                 &projected[s],
                 &tris[start..end],
@@ -721,7 +746,7 @@ impl<'a> TileJob<'a> {
         let flush = |batch: &[usize; LANES], len: usize, sky: &mut [Vec3]| {
             let screen = |i: usize| {
                 let k = batch[i.min(len - 1)];
-                vis.sample_position((k / vis.spp) % vis.width, k / vis.spp / vis.width, k % vis.spp, self.pattern)
+                vis.sample_position((k / vis.spp) % vis.width, k / vis.spp / vis.width, k % vis.spp)
             };
             let (sx, sy) =
                 (F8::new(std::array::from_fn(|i| screen(i).x)), F8::new(std::array::from_fn(|i| screen(i).y)));
@@ -808,7 +833,7 @@ impl<'a> TileJob<'a> {
                     if packet.len > 0 && packet.surface != surface {
                         self.shade_packet(vis, &mut packet, shaded);
                     }
-                    packet.push(surface, k, t, vis.sample_position(x, y, s, self.pattern));
+                    packet.push(surface, k, t, vis.sample_position(x, y, s));
                     if packet.len == LANES {
                         self.shade_packet(vis, &mut packet, shaded);
                     }
@@ -822,36 +847,52 @@ impl<'a> TileJob<'a> {
             let layers = translucent.get_or_insert_with(|| Box::new(TileScratch::new(self.bins.tile_size, spp)));
             self.translucent_fragments(layers, tile, (w, h), vis, fragments);
         }
-        // Resolve: the box filter over each pixel's samples.
+        // Resolve: each pixel's samples, weighted by the pixel filter's sign where it has negative lobes (the
+        // samples were drawn in proportion to its magnitude).
         let inv_spp = 1.0 / spp as f32;
+        let signed = self.pattern.has_negative_weights();
         let mut acc = frame::AovSample::default();
         let mut next_fragment = 0;
         for y in 0..vis.height {
             for x in 0..vis.width {
-                let mut sum = Vec3::ZERO;
+                let (mut sum, mut plain, mut weights) = (Vec3::ZERO, Vec3::ZERO, 0.0);
                 acc.clear();
                 for s in 0..spp {
                     let k = (y * vis.width + x) * spp + s;
-                    let screen = vis.sample_position(x, y, s, self.pattern);
+                    let screen = vis.sample_position(x, y, s);
+                    let weight = if signed { vis.sample_weight(x, y, s, self.pattern) } else { 1.0 };
                     let covered = vis.triangle[k] != EMPTY;
                     let seen = if covered {
                         let sample = &shaded[k];
                         if self.aovs.any() {
-                            acc.add(&sample.shaded, sample.uv, sample.object, sample.triangle);
+                            acc.add(&sample.shaded, sample.uv, sample.object, sample.triangle, weight);
                         }
                         self.volume_pass(screen, sample.shaded.depth, sample.shaded.color)
                     } else {
                         let behind = if self.sky.is_some() { sky[k] } else { self.background };
                         self.volume_pass(screen, f32::INFINITY, behind)
                     };
-                    let (seen, next) = transparent::composite(fragments, next_fragment, k, seen, covered, &mut acc);
+                    let (seen, next) =
+                        transparent::composite(fragments, next_fragment, k, seen, covered, weight, &mut acc);
                     next_fragment = next;
-                    sum += seen;
+                    if signed {
+                        sum += seen * weight;
+                        plain += seen;
+                        weights += weight;
+                    } else {
+                        sum += seen;
+                    }
                 }
+                // Negative samples that cancel the positive ones exactly leave no weight: the plain mean then.
+                let (color, share, weighted) = match signed {
+                    false => (sum * inv_spp, inv_spp, false),
+                    true if weights != 0.0 => (sum / weights, 1.0 / weights, true),
+                    true => (plain * inv_spp, inv_spp, false),
+                };
                 let i = (y * w) + vis.x0 + x;
-                band[i] = (sum * inv_spp).to_array();
+                band[i] = color.to_array();
                 if self.aovs.any() {
-                    aov.set(i, &acc);
+                    aov.set(i, &acc, share, weighted);
                 }
             }
         }
@@ -1019,7 +1060,7 @@ impl<'a> TileJob<'a> {
                 flush(vis, &mut packet);
             }
             let (x, y) = ((k / spp) % vis.width, k / spp / vis.width);
-            packet.push(surface, k, t, vis.sample_position(x, y, k % spp, self.pattern));
+            packet.push(surface, k, t, vis.sample_position(x, y, k % spp));
             if packet.len == LANES {
                 flush(vis, &mut packet);
             }
@@ -1112,7 +1153,7 @@ impl<'a> TileJob<'a> {
                 return;
             }
             refused.extend(replaced.iter().map(|r| r.sample));
-            vis.peel(self.bins, tile, self.triangles, self.pattern, refused);
+            vis.peel(self.bins, tile, self.triangles, refused);
             refused.truncate(refused.len() - replaced.len());
             for r in replaced.iter() {
                 // Nothing in front of the crossing: the parallax surface keeps the sample, at the crossing.

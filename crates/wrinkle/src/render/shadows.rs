@@ -159,9 +159,9 @@ fn depth_view(
     crate::limits::reserve((w * h * 8) as u64, || format!("a {w}x{h} shadow map"))?;
     let mut seen = placed_for(&camera);
     let diced = displace::displace(&mut seen, &scene.materials, &camera)?;
-    let drawn = Drawn::new(&seen, diced, &camera, &mut Default::default());
+    let drawn = Drawn::new(&seen, diced, &camera, 0, &mut Default::default());
     let bins = Bins::of(&drawn.triangles, w, h, TILE, |t| casting[t.surface as usize]);
-    let pattern = SamplePattern::new(1).expect("one sample per texel");
+    let pattern = SamplePattern::centre();
     // A parallax crossing's depth is the eye's, not the light's: shadows see the surface itself.
     let not_replacing = vec![false; seen.len()];
     let job = TileJob {

@@ -66,7 +66,7 @@ impl TileJob<'_> {
                 let TileScratch { vis, refused, .. } = layers;
                 refused.clear();
                 refused.extend((0..n).filter(|&k| vis.triangle[k] != EMPTY));
-                vis.peel(bins, tile, self.triangles, self.pattern, refused);
+                vis.peel(bins, tile, self.triangles, refused);
             }
             if job.any_masked || layers.vis.outline {
                 job.fix_visibility(layers, tile);
@@ -187,14 +187,15 @@ pub(super) fn sorted_order(camera: &Camera, instances: &[Instance], drawn: &Draw
 }
 
 /// Composites the fragments of sample `k` (from `next` on in `fragments`, which are in sample order) over
-/// its colour `c`, adding what they cover of it to `acc`; returns the colour and where the next sample's
-/// fragments begin.
+/// its colour `c`, adding what they cover of it to `acc` (by the sample's `weight`); returns the colour
+/// and where the next sample's fragments begin.
 pub(super) fn composite(
     fragments: &[Fragment],
     next: usize,
     k: usize,
     mut c: Vec3,
     covered: bool,
+    weight: f32,
     acc: &mut frame::AovSample,
 ) -> (Vec3, usize) {
     let mut through = 1.0;
@@ -205,7 +206,7 @@ pub(super) fn composite(
         next += 1;
     }
     if !covered {
-        acc.cover(1.0 - through);
+        acc.cover(1.0 - through, weight);
     }
     (c, next)
 }

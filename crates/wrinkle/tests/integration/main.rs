@@ -20,6 +20,7 @@ mod normal_map_reference;
 mod procedural_aliasing;
 mod public_api;
 mod raster_reference;
+mod sampling;
 mod scene_robustness;
 mod shadows;
 mod spot_lights;

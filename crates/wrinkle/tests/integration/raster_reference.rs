@@ -7,8 +7,8 @@
 use crate::common::*;
 use glam::{Affine3A, DVec3, Quat, Vec3};
 use std::path::Path;
-use wrinkle::internals::{cover, grid, Camera, Cull, Mesh, SamplePattern, TriangleSetup};
-use wrinkle::{render, Aovs, Projection, RenderOptions, Scene, Surface};
+use wrinkle::internals::{cover, grid, Camera, Cull, Mesh, SamplePattern, TileOffsets, TriangleSetup};
+use wrinkle::{render, Aovs, PixelFilter, Projection, RenderOptions, Sampler, Scene, Surface};
 
 // ---------------------------------------------------------------------------------------------
 // 4. Perspective-correct (u,v).
@@ -95,31 +95,36 @@ fn oblique_plane_uv_is_perspective_correct() {
 // 5. Watertightness.
 // ---------------------------------------------------------------------------------------------
 
+/// `spp` stratified samples a pixel, box-filtered.
+fn stratified(spp: usize) -> SamplePattern {
+    SamplePattern::new(spp, Sampler::Stratified, PixelFilter::default()).expect("a stratified pattern")
+}
+
 /// Sets up a mesh's triangles for `camera` and counts, per sample, how many of them cover it
 /// (`(y * w + x) * spp + s`), through the rasterizer's own coverage function over the whole screen.
-fn coverage(camera: &Camera, mesh: &Mesh, object_to_world: Affine3A, cull: bool, spp: usize) -> Vec<u16> {
-    let (w, h) = (camera.width as usize, camera.height as usize);
-    let mut setup = TriangleSetup::new(camera);
+fn coverage(camera: &Camera, mesh: &Mesh, object_to_world: Affine3A, cull: bool, pattern: &SamplePattern) -> Vec<u16> {
+    let (w, h, spp) = (camera.width as usize, camera.height as usize, pattern.count());
+    let mut setup = TriangleSetup::new(camera).reaching(pattern.reach());
     let vertices =
         setup.project_vertices(&mesh.positions, Some(&mesh.uvs), &(camera.world_to_camera * object_to_world));
     let cull = if cull { Cull::FacingAway { mirrored: false } } else { Cull::Nothing };
     setup.add_triangles(&vertices, &mesh.triangles, 0, 0, cull, None);
-    let pattern = SamplePattern::new(spp).expect("spp 1, 4 or 16");
+    let samples = TileOffsets::of(pattern, (0, 0, w, h));
     let mut count = vec![0u16; w * h * spp];
     for t in &setup.triangles {
-        cover(t, &pattern, (0, 0, w, h), |x, y, s, _, _| count[(y * w + x) * spp + s] += 1);
+        cover(t, &samples, (0, 0, w, h), |x, y, s, _, _| count[(y * w + x) * spp + s] += 1);
     }
     count
 }
 
 /// Screen positions of every sample of the pattern, in the order of `coverage`.
-fn sample_positions(w: usize, h: usize, spp: usize) -> Vec<[f64; 2]> {
-    let pattern = SamplePattern::new(spp).expect("spp 1, 4 or 16");
-    let mut out = Vec::with_capacity(w * h * spp);
+fn sample_positions(w: usize, h: usize, pattern: &SamplePattern) -> Vec<[f64; 2]> {
+    let samples = TileOffsets::of(pattern, (0, 0, w, h));
+    let mut out = Vec::with_capacity(w * h * pattern.count());
     for y in 0..h {
         for x in 0..w {
-            for s in 0..spp {
-                let (ox, oy) = pattern.offset(s);
+            for s in 0..pattern.count() {
+                let (ox, oy) = samples.offset(x, y, s);
                 out.push([x as f64 + ox as f64, y as f64 + oy as f64]);
             }
         }
@@ -189,12 +194,15 @@ struct SphereView {
     rotate: [f32; 3],
     translate: [f32; 3],
     spp: usize,
+    /// Sobol samples spread over this pixel filter (reaching past the pixel), where given; else stratified.
+    sobol_filter: Option<&'static str>,
 }
 
 const ORTHO_HEIGHT: f64 = 2.6;
 
 /// A closed tessellated sphere, drawn with back faces culled, at awkward angles, from off-centre
-/// cameras, with odd tessellation counts and 1, 4 and 16 samples per pixel: no sample is covered twice
+/// cameras, with odd tessellation counts and 1, 4 and 16 samples per pixel (and 8 Sobol samples spread over
+/// a Lanczos filter, which reach three pixels past their own, also past the frame): no sample is covered twice
 /// by front faces, and every sample inside the exact outline of the polyhedron (the convex hull of its
 /// projected vertices, computed here in f64) by more than 0.02 pixel is covered exactly once (nothing
 /// outside it is covered). The tessellation is checked to be convex first, so that this reference holds.
@@ -211,6 +219,7 @@ fn tessellated_sphere_is_watertight() {
             rotate: [37.0, 23.0, 11.0],
             translate: [0.0; 3],
             spp: 16,
+            sobol_filter: None,
         },
         SphereView {
             name: "pole towards the eye, 13 x 7, spp 16",
@@ -222,6 +231,7 @@ fn tessellated_sphere_is_watertight() {
             rotate: [90.0, 0.0, 0.0],
             translate: [0.0; 3],
             spp: 16,
+            sobol_filter: None,
         },
         SphereView {
             name: "off-centre and cut by the border, 61 x 29, spp 1",
@@ -233,6 +243,7 @@ fn tessellated_sphere_is_watertight() {
             rotate: [13.7, 71.3, -42.1],
             translate: [0.05, 0.1, -0.2],
             spp: 1,
+            sobol_filter: None,
         },
         SphereView {
             name: "close up, wide angle, odd image, 45 x 23, spp 4",
@@ -244,6 +255,7 @@ fn tessellated_sphere_is_watertight() {
             rotate: [-20.0, 110.0, 5.0],
             translate: [0.0; 3],
             spp: 4,
+            sobol_filter: None,
         },
         SphereView {
             name: "orthographic, 17 x 9, spp 16",
@@ -255,6 +267,7 @@ fn tessellated_sphere_is_watertight() {
             rotate: [0.0, 0.0, 33.0],
             translate: [0.0; 3],
             spp: 16,
+            sobol_filter: None,
         },
         SphereView {
             name: "fine, 100 x 51, spp 1",
@@ -266,6 +279,19 @@ fn tessellated_sphere_is_watertight() {
             rotate: [5.0, 5.0, 5.0],
             translate: [0.0; 3],
             spp: 1,
+            sobol_filter: None,
+        },
+        SphereView {
+            name: "off-centre, cut by the border, 8 Sobol samples over a Lanczos filter",
+            eye: [-0.4, 0.9, 3.5],
+            look_at: [1.3, -0.8, 0.0],
+            fov: Some(40.0),
+            size: (200, 150),
+            segments: (61, 29),
+            rotate: [13.7, 71.3, -42.1],
+            translate: [0.05, 0.1, -0.2],
+            spp: 8,
+            sobol_filter: Some("lanczos"),
         },
     ];
     for view in &views {
@@ -300,10 +326,14 @@ fn tessellated_sphere_is_watertight() {
                 RefCamera::orthographic(view.eye, view.look_at, up, ORTHO_HEIGHT, w, h),
             ),
         };
-        let count = coverage(&camera, &mesh, to_world, true, view.spp);
+        let pattern = match view.sobol_filter {
+            None => stratified(view.spp),
+            Some(f) => SamplePattern::new(view.spp, Sampler::Sobol, PixelFilter::parse(f).unwrap()).unwrap(),
+        };
+        let count = coverage(&camera, &mesh, to_world, true, &pattern);
         let hull =
             convex_hull(mesh.positions.iter().map(|&p| reference.project(d3(to_world.transform_point3(p)))).collect());
-        let (inside, max, holes, spill) = check_against_outline(&count, &sample_positions(w, h, view.spp), &hull);
+        let (inside, max, holes, spill) = check_against_outline(&count, &sample_positions(w, h, &pattern), &hull);
         println!(
             "sphere [{}]: {inside} samples inside the outline, max coverage {max} (bound 1), {holes} inside not covered once, \
              {spill} outside covered (bound 0 each)",
@@ -359,7 +389,7 @@ fn fill_rule_with_vertices_on_samples() {
                     h as u32,
                 );
                 let reference = RefCamera::orthographic(eye, [0.0; 3], [0.0, 1.0, 0.0], h as f64, w, h);
-                let count = coverage(&camera, &mesh, Affine3A::IDENTITY, false, spp);
+                let count = coverage(&camera, &mesh, Affine3A::IDENTITY, false, &stratified(spp));
                 let screen = corners.map(|c| reference.project(DVec3::from(c)));
                 let (x0, x1) = (
                     screen.iter().map(|p| p[0]).fold(f64::INFINITY, f64::min),
@@ -371,7 +401,7 @@ fn fill_rule_with_vertices_on_samples() {
                 );
                 assert_eq!((x0.fract(), y0.fract()), (0.5, 0.5), "corners must project to pixel centres");
                 let (mut inside, mut bad) = (0, Vec::new());
-                for (&c, p) in count.iter().zip(sample_positions(w, h, spp)) {
+                for (&c, p) in count.iter().zip(sample_positions(w, h, &stratified(spp))) {
                     let strictly_inside = p[0] > x0 && p[0] < x1 && p[1] > y0 && p[1] < y1;
                     let strictly_outside = p[0] < x0 || p[0] > x1 || p[1] < y0 || p[1] > y1;
                     inside += usize::from(strictly_inside);
@@ -417,10 +447,11 @@ fn open_quad_from_both_sides() {
             let camera =
                 Camera::new(f3(eye), Vec3::ZERO, Vec3::Y, Projection::Perspective { fov_y: 50.0 }, w as u32, h as u32);
             let reference = RefCamera::perspective(eye, [0.0; 3], [0.0, 1.0, 0.0], 50.0, w, h);
-            let count = coverage(&camera, &mesh, Affine3A::IDENTITY, false, spp);
+            let count = coverage(&camera, &mesh, Affine3A::IDENTITY, false, &stratified(spp));
             let hull = convex_hull(corners.iter().map(|&c| reference.project(DVec3::from(c))).collect());
             assert_eq!(hull.len(), 4);
-            let (inside, max, holes, spill) = check_against_outline(&count, &sample_positions(w, h, spp), &hull);
+            let (inside, max, holes, spill) =
+                check_against_outline(&count, &sample_positions(w, h, &stratified(spp)), &hull);
             println!("open quad, eye {eye:?}, spp {spp}: {inside} inside samples, max coverage {max}, {holes} holes, {spill} spilled");
             assert!(inside > w * h * spp / 10);
             assert!(max <= 1, "a sample covered {max} times");
@@ -442,11 +473,11 @@ fn clipped_floor_is_watertight() {
         Camera::new(f3(eye), f3(look_at), Vec3::Y, Projection::Perspective { fov_y: 70.0 }, w as u32, h as u32);
     let reference = RefCamera::perspective(eye, look_at, [0.0, 1.0, 0.0], 70.0, w, h);
     let spp = 4;
-    let count = coverage(&camera, &mesh, Affine3A::IDENTITY, false, spp);
+    let count = coverage(&camera, &mesh, Affine3A::IDENTITY, false, &stratified(spp));
     let [p00, p10, _, p01] = corners.map(DVec3::from);
     let (e1, e2) = (p10 - p00, p01 - p00);
     let (mut inside, mut outside, mut bad) = (0, 0, Vec::new());
-    for (&c, p) in count.iter().zip(sample_positions(w, h, spp)) {
+    for (&c, p) in count.iter().zip(sample_positions(w, h, &stratified(spp))) {
         let (o, d) = reference.ray(p[0], p[1]);
         let uv = ray_plane(o, d, p00, e1.cross(e2)).map(|t| parallelogram_uv(o + t * d, p00, e1, e2));
         let margin = 1e-3;
