@@ -29,7 +29,7 @@ pub struct MappingsArgs {
     /// Height of each panel.
     #[arg(long, default_value_t = 200)]
     pub height: usize,
-    /// Samples per pixel (1, 4 or 16).
+    /// Samples per pixel (1 to 4096, stratified).
     #[arg(long, default_value_t = 4)]
     pub spp: usize,
     /// Panels per row of the sheet.

@@ -43,6 +43,17 @@ def test_default_scene_matches_the_cli_bit_for_bit(cli, tmp_path):
     assert np.array_equal(normal["X"][seen], frame["normal"][..., 0][seen])
 
 
+def test_sampler_and_pixel_filter_match_the_cli(cli, tmp_path):
+    out = tmp_path / "filtered.exr"
+    cli("render", "-o", out, "--width", 96, "--height", 64, "--spp", 6, "--sampler", "sobol", "--pixel-filter", "gaussian")
+    scene = wrinkle.Scene.default()
+    frame = scene.render(96, 64, spp=6, sampler="sobol", pixel_filter="gaussian")
+    assert np.array_equal(wrinkle.read_exr(out)["R"], frame["color"][..., 0])
+    # Not what the box over the same samples gives: the filter was used, not ignored.
+    boxed = scene.render(96, 64, spp=6, sampler="sobol")
+    assert np.abs(boxed["color"] - frame["color"]).max() > 0.05
+
+
 def test_shapes_dtypes_and_aovs_of_an_analytic_sphere():
     scene = wrinkle.Scene.from_toml(SPHERE)
     f = scene.render(64, 48, aov=("normal", "uv", "depth", "id", "primitive", "alpha"))
@@ -95,7 +106,11 @@ def test_errors_become_python_exceptions(tmp_path):
         wrinkle.Scene.from_dict(loop)
     scene = wrinkle.Scene.from_toml(SPHERE)
     with pytest.raises(ValueError, match="spp"):
-        scene.render(16, 16, spp=3)
+        scene.render(16, 16, spp=0)
+    with pytest.raises(ValueError, match="pixel_filter"):
+        scene.render(16, 16, pixel_filter="sinc")
+    with pytest.raises(ValueError, match="sampler"):
+        scene.render(16, 16, sampler="halton")
     with pytest.raises(ValueError, match="width"):
         scene.render(0, 16)
     with pytest.raises(ValueError, match="width"):

@@ -14,7 +14,7 @@ pub enum Error {
     #[error("{}: cannot write: {message}", path.display())]
     Write { path: PathBuf, message: String },
     /// A parameter given by the caller is out of range, by its own name (`spp`, `line_width`); `message`
-    /// follows the name ("must be 1, 4 or 16, got 3"). Each front end words the name its way: `--spp` on the
+    /// follows the name ("must be between 1 and 4096, got 0"). Each front end words the name its way: `--spp` on the
     /// command line, the field's path in a scene, `spp=` in Python.
     #[error("{name} {message}")]
     Parameter { name: &'static str, message: String },

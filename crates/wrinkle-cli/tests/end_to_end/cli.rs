@@ -360,9 +360,45 @@ fn width_a_million() {
 }
 
 #[test]
-fn spp_three() {
+fn spp_out_of_range() {
     let s = Scratch::new("spp");
-    assert_one_error(&render_default(&s, &["--width", W, "--height", H, "--spp", "3"]), 2, &["--spp", "3"], &s);
+    for spp in ["0", "5000"] {
+        assert_one_error(&render_default(&s, &["--width", W, "--height", H, "--spp", spp]), 2, &["--spp", spp], &s);
+    }
+}
+
+#[test]
+fn unknown_pixel_filter() {
+    let s = Scratch::new("pixfilter");
+    assert_one_error(&render_default(&s, &["--pixel-filter", "sinc"]), 2, &["--pixel-filter", "sinc", "mitchell"], &s);
+    assert_one_error(&render_default(&s, &["--pixel-filter", "tent:20"]), 2, &["--pixel-filter", "radius", "20"], &s);
+    assert_one_error(&render_default(&s, &["--sampler", "halton"]), 2, &["--sampler", "halton"], &s);
+}
+
+/// `--spp`, `--sampler` and `--pixel-filter` reach the renderer: the EXR of the cover scene at 7 Sobol
+/// samples over a Mitchell filter is, bit for bit, the library's render with those options, and far from
+/// the same samples box-filtered.
+#[test]
+fn sampling_options_reach_the_renderer() {
+    let s = Scratch::new("sampling");
+    let size = ["--width", "96", "--height", "64", "--spp", "7", "--sampler", "sobol"];
+    let (mitchell, boxed) = (s.out("mitchell.exr"), s.out("box.exr"));
+    assert_ok(&wrinkle(&[&["render", "-o", &mitchell, "--pixel-filter", "mitchell"][..], &size].concat()));
+    assert_ok(&wrinkle(&[&["render", "-o", &boxed][..], &size].concat()));
+    let options = wrinkle::RenderOptions {
+        width: 96,
+        height: 64,
+        spp: 7,
+        sampler: wrinkle::Sampler::Sobol,
+        pixel_filter: wrinkle::PixelFilter::parse("mitchell").unwrap(),
+        ..Default::default()
+    };
+    let expected = wrinkle::render(&wrinkle::Scene::default_scene(), &options).unwrap().color;
+    let red = |f: &str| read_exr_channels(Path::new(f)).unwrap().2.into_iter().find(|(n, _)| n == "R").unwrap().1;
+    let (got, other) = (red(&mitchell), red(&boxed));
+    assert!(got.iter().zip(&expected).all(|(g, e)| g.to_bits() == e[0].to_bits()), "the CLI's render differs");
+    let apart = got.iter().zip(&other).map(|(a, b)| (a - b).abs()).fold(0.0f32, f32::max);
+    assert!(apart > 0.05, "the pixel filter changed the frame by at most {apart}");
 }
 
 #[test]
@@ -957,6 +993,8 @@ fn a_frame_in_tiles_is_the_whole_frame() {
         ("plain.png", &[][..]),
         ("aovs.exr", &["--aov", "depth,uv"][..]),
         ("clear.png", &["--background", "transparent"][..]),
+        // Samples over a filter reach three pixels past their own, each pixel with its own scramble.
+        ("lanczos.png", &["--sampler", "sobol", "--pixel-filter", "lanczos", "--background", "transparent"][..]),
     ] {
         let (whole, tiled) = (s.out(&format!("whole_{name}")), s.out(&format!("tiled_{name}")));
         assert_ok(&wrinkle(&[&["render", "-o", &whole][..], &size, extra].concat()));

@@ -230,6 +230,9 @@ pub struct SamplePattern {
     same: Option<Vec<[i64; 2]>>,
     /// Pixels beyond its own that a pixel's samples may reach, on each side.
     reach: usize,
+    /// The one-dimensional filter's sign at each fixed-point offset from -reach pixels on, where it has
+    /// negative lobes (a table: the sinc of a Lanczos filter costs more than the rest of a sample's resolve).
+    signs: Vec<f32>,
 }
 
 impl SamplePattern {
@@ -241,7 +244,20 @@ impl SamplePattern {
         let filter = filter.validated()?;
         let warp = Warp::new(&filter);
         let reach = (filter.radius() - 0.5).max(0.0).ceil() as usize;
-        let mut pattern = SamplePattern { spp, filter, warp, same: None, reach };
+        let signs = match filter.has_negative_lobes() {
+            true => (0..(2 * reach as i64 + 1) * SUBPIXEL)
+                .map(|o| {
+                    let at = (o as f32 + 0.5) / SUBPIXEL as f32 - reach as f32 - 0.5;
+                    if filter.eval(at) < 0.0 {
+                        -1.0
+                    } else {
+                        1.0
+                    }
+                })
+                .collect(),
+            false => Vec::new(),
+        };
+        let mut pattern = SamplePattern { spp, filter, warp, same: None, reach, signs };
         if sampler == Sampler::Stratified {
             pattern.same = Some(pattern.stratified());
         }
@@ -269,19 +285,21 @@ impl SamplePattern {
 
     /// Whether some samples weigh -1.
     pub fn has_negative_weights(&self) -> bool {
-        self.filter.has_negative_lobes()
+        !self.signs.is_empty()
     }
 
-    /// The weight of a sample at `offset` (fixed point, from the pixel's corner): the filter's sign there.
+    /// The weight of a sample at `offset` (fixed point, from the pixel's corner): the filter's sign over
+    /// the fixed-point cell there.
     #[inline]
     pub fn weight(&self, offset: [i64; 2]) -> f32 {
-        let at = |o: i64| o as f32 / SUBPIXEL as f32 - 0.5;
-        let w = self.filter.eval(at(offset[0])) * self.filter.eval(at(offset[1]));
-        if w < 0.0 {
-            -1.0
-        } else {
-            1.0
+        if self.signs.is_empty() {
+            return 1.0;
         }
+        let sign = |o: i64| {
+            let k = (o + self.reach as i64 * SUBPIXEL).clamp(0, self.signs.len() as i64 - 1);
+            self.signs[k as usize]
+        };
+        sign(offset[0]) * sign(offset[1])
     }
 
     /// The offsets of the samples of pixel (x, y) into `out` (spp of them).
