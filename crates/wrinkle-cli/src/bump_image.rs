@@ -128,6 +128,7 @@ pub fn scene(args: &BumpArgs, table: BumpTable, texture: Option<FilteredTexture>
         volumes: Vec::new(),
         environment: None,
         slides: Vec::new(),
+        animation: None,
     })
 }
 

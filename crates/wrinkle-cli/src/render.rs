@@ -28,10 +28,15 @@ pub struct RenderArgs {
     /// (comma-separated; primitive is the item buffer: object and triangle as 32-bit integers).
     #[arg(long, value_delimiter = ',')]
     pub aov: Vec<String>,
-    /// Number of frames (with --turntable): OUT_0000.png, OUT_0001.png, ...
-    #[arg(long, default_value_t = 1)]
-    pub frames: usize,
-    /// Rotate the objects one full turn about the vertical axis through the camera's target over the frames.
+    /// The frames of an animation (a scene's [[animation]] tracks, or --turntable): N renders frames 0 to
+    /// N - 1, A..B frames A to B (both included), each written as OUT_<frame>.png (OUT_0000.png, ...).
+    #[arg(long, default_value = "1", value_name = "N|A..B", value_parser = parse_frames)]
+    pub frames: Frames,
+    /// Frames per second: frame f shows the scene's animation at time f / FPS seconds.
+    #[arg(long, default_value_t = 24.0)]
+    pub fps: f64,
+    /// Rotate the objects one full turn about the vertical axis through the camera's target over the frames
+    /// (frame f of A..B at 360 (f - A) / (B - A + 1) degrees).
     #[arg(long)]
     pub turntable: bool,
     /// Print the time of each pipeline stage.
@@ -177,6 +182,45 @@ fn parse_aovs(names: &[String]) -> Result<Aovs> {
     Ok(a)
 }
 
+/// Which frames to render.
+#[derive(Clone, Copy, Debug)]
+pub struct Frames {
+    pub first: usize,
+    pub last: usize,
+    /// Whether outputs carry their frame's number (a range, or more than one frame).
+    pub numbered: bool,
+}
+
+impl Frames {
+    pub fn count(&self) -> usize {
+        self.last - self.first + 1
+    }
+}
+
+/// `--frames N` (frames 0 to N - 1) or `--frames A..B` (A to B, both included).
+fn parse_frames(text: &str) -> std::result::Result<Frames, String> {
+    const MOST: usize = 100_000;
+    let whole =
+        |t: &str| t.trim().parse::<usize>().map_err(|_| format!("expected N or A..B (whole numbers), got \"{text}\""));
+    let frames = match text.split_once("..") {
+        Some((a, b)) => Frames { first: whole(a)?, last: whole(b)?, numbered: true },
+        None => {
+            let n = whole(text)?;
+            if n == 0 {
+                return Err("must be at least 1 frame".into());
+            }
+            Frames { first: 0, last: n - 1, numbered: n > 1 }
+        }
+    };
+    if frames.first > frames.last {
+        return Err(format!("the range must not run backwards, got {text}"));
+    }
+    if frames.count() > MOST || frames.last >= 10 * MOST {
+        return Err(format!("at most {MOST} frames, numbered below {}, got {text}", 10 * MOST));
+    }
+    Ok(frames)
+}
+
 /// `out.png` -> `out_0007.png`.
 fn numbered(out: &Path, k: usize) -> PathBuf {
     let stem = out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
@@ -188,7 +232,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     format_of(&args.output)?;
     let to_stdout = is_stdout(&args.output);
     if to_stdout {
-        if !args.aov.is_empty() || args.frames > 1 || args.tile.is_some() {
+        if !args.aov.is_empty() || args.frames.numbered || args.tile.is_some() {
             return Err(Error::Invalid(
                 "-o -: the standard output holds one PNG: no --aov, no --frames, no --tile".into(),
             ));
@@ -198,27 +242,41 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let mut options = args.frame.options_in_tiles(args.tile)?;
     options.aovs = parse_aovs(&args.aov)?;
     options.transparent = args.background == "transparent";
-    if args.frames == 0 || args.frames > 100_000 {
-        return Err(Error::Invalid(format!("--frames must be between 1 and 100000, got {}", args.frames)));
-    }
-    if args.frames > 1 && !args.turntable {
-        return Err(Error::Invalid("--frames > 1 needs --turntable (the only animation so far)".into()));
+    if !(args.fps.is_finite() && args.fps > 0.0 && args.fps <= 1000.0) {
+        return Err(Error::parameter("fps", format!("must be above 0 and at most 1000, got {}", args.fps)));
     }
     let loading = std::time::Instant::now();
     let scene = args.frame.load_scene(args.scene.as_deref())?;
+    if args.frames.count() > 1 && scene.animation.is_none() && !args.turntable {
+        return Err(Error::Invalid(
+            "--frames: the scene has no [[animation]] tracks, so every frame would be the same (add --turntable)"
+                .into(),
+        ));
+    }
     if args.stats {
         eprintln!(
             "scene: loaded in {:.1} ms (models, textures and their pyramids)",
             loading.elapsed().as_secs_f64() * 1e3
         );
     }
-    let animated = args.turntable && args.frames > 1;
-    let bar = animated.then(|| Progress::new("render", args.frames as u64, "frames", "{pos}/{len} frames"));
+    let frames = args.frames;
+    let animated = frames.numbered;
+    let bar =
+        (frames.count() > 1).then(|| Progress::new("render", frames.count() as u64, "frames", "{pos}/{len} frames"));
     // An animation's frames are placed together at the end: a failed frame leaves none of them.
     let mut set = OutputSet::new();
-    for k in 0..args.frames {
-        options.turntable_degrees = if args.turntable { 360.0 * k as f32 / args.frames as f32 } else { 0.0 };
+    for k in frames.first..=frames.last {
+        let turn = (k - frames.first) as f32 / frames.count() as f32;
+        options.turntable_degrees = if args.turntable { 360.0 * turn } else { 0.0 };
         let out = if animated { numbered(&args.output, k) } else { args.output.clone() };
+        let moved;
+        let scene = match &scene.animation {
+            Some(animation) if k > 0 => {
+                moved = animation.scene_at(k as f64 / args.fps)?;
+                &moved
+            }
+            _ => &scene,
+        };
         if let Some(n) = args.tile {
             let t = std::time::Instant::now();
             crate::tiles::render_in_tiles(&scene, &options, n, &out, &mut set, !animated)?;

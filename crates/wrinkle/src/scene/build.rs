@@ -219,6 +219,7 @@ impl Scene {
             volumes: Vec::new(),
             environment: None,
             slides: Vec::new(),
+            animation: None,
         }
     }
 

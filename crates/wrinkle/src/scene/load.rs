@@ -7,7 +7,7 @@ use super::layer::{parse_alpha_mode, parse_layers};
 use super::mapping::{parse_mapping, uv_list};
 use super::procedural;
 use super::texture::{load_texture, parse_normal_map, parse_texture, Role};
-use super::{CameraDesc, Object, Scene};
+use super::{Animation, CameraDesc, Object, Scene};
 use crate::bump::function::filter_choices;
 use crate::bump::generators::{BrickParams, Generator, GridParams, RivetParams, TextParams};
 use crate::bump::{BumpFormula, BumpMap, BumpSource, BumpTable, Displacement, DisplacementMode, Parallax};
@@ -47,10 +47,19 @@ impl Scene {
         Scene::parse(DEFAULT_SCENE, Path::new(".")).expect("the embedded default scene is valid")
     }
 
-    /// Parses scene text; relative file names resolve against `base`.
+    /// Parses scene text; relative file names resolve against `base`. An animated scene is its frame at
+    /// time 0.
     pub fn parse(text: &str, base: &Path) -> Result<Scene> {
         let root: Value = toml::from_str::<toml::Table>(text).map(Value::Table).map_err(|e| toml_error(text, &e))?;
-        let top = Fields::new("", &root, &["camera", "light", "object", "volume", "environment"])?;
+        match Animation::of(&root, base)? {
+            Some(animation) => Arc::new(animation).scene_at(0.0),
+            None => Scene::build(&root, base),
+        }
+    }
+
+    /// The scene of a parsed document (its `[[animation]]` tables aside).
+    pub(super) fn build(root: &Value, base: &Path) -> Result<Scene> {
+        let top = Fields::new("", root, &["camera", "light", "object", "volume", "environment", "animation"])?;
         let camera = parse_camera(top.get("camera").ok_or_else(|| Error::scene("camera", "missing table [camera]"))?)?;
         let mut slides = Vec::new();
         let lights = top
@@ -78,7 +87,7 @@ impl Scene {
                 "\"environment\" lights the scene with its [environment] map: add one",
             ));
         }
-        Ok(Scene { camera, lights, shadows, objects, materials, volumes, environment, slides })
+        Ok(Scene { camera, lights, shadows, objects, materials, volumes, environment, slides, animation: None })
     }
 }
 

@@ -1,6 +1,7 @@
 //! The scene: camera, lights, objects and their materials, read from TOML (docs/scene-format.md)
 //! and validated on load.
 
+mod animation;
 mod build;
 mod contain;
 mod environment;
@@ -15,6 +16,7 @@ mod obj;
 mod procedural;
 mod texture;
 
+pub use animation::{Animation, Interpolation};
 pub use load::DEFAULT_SCENE;
 pub use mapping::parse_mapping_text;
 
@@ -59,6 +61,9 @@ pub struct Scene {
     pub environment: Option<SceneEnvironment>,
     /// The pictures spot lights project (`Spot::slide` indexes them).
     pub slides: Vec<FilteredTexture>,
+    /// The scene file's `[[animation]]` tracks, where it has any: `Animation::scene_at` gives the scene at
+    /// another time (this one is at time 0).
+    pub animation: Option<std::sync::Arc<Animation>>,
 }
 
 /// The light arriving from far away in every direction.

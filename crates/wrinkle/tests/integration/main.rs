@@ -5,6 +5,7 @@
 mod common;
 
 mod aliasing;
+mod animation;
 mod billboards;
 mod bump_reference;
 mod displacement;
