@@ -58,6 +58,21 @@ impl Scene {
         self.scene.objects.len()
     }
 
+    /// The time of the animation's last key in seconds, or None for a scene without [[animation]] tracks.
+    #[getter]
+    fn animation_end(&self) -> Option<f64> {
+        self.scene.animation.as_ref().map(|a| a.end())
+    }
+
+    /// The scene at `time` seconds of its animation.
+    fn at(&self, py: Python<'_>, time: f64) -> PyResult<Scene> {
+        let Some(animation) = self.scene.animation.clone() else {
+            return Err(invalid("at: the scene has no [[animation]] tracks"));
+        };
+        let scene = py.detach(|| animation.scene_at(time)).py_err()?;
+        Ok(Scene { scene })
+    }
+
     /// Renders a frame: "color" (H, W, 3) linear RGB and each AOV named in `aovs`, as arrays. `progress`,
     /// when given, is called with (done, total) from the calling thread as bands finish.
     #[pyo3(signature = (width, height, spp, aovs, bump, bump_filter, transparent, transparency, turntable, progress, crop=None, sampler="stratified", pixel_filter="box"))]

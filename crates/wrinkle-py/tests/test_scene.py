@@ -54,6 +54,19 @@ def test_sampler_and_pixel_filter_match_the_cli(cli, tmp_path):
     assert np.abs(boxed["color"] - frame["color"]).max() > 0.05
 
 
+def test_an_animated_scene_at_a_time_is_the_clis_frame(cli, tmp_path, repo):
+    scene = wrinkle.Scene.load(repo / "scenes" / "animation.toml")
+    assert scene.animation_end == 4.0
+    cli("render", repo / "scenes" / "animation.toml", "-o", tmp_path / "a.exr", "--frames", "36..36", "--fps", 24,
+        "--width", 64, "--height", 48)
+    frame = scene.at(1.5).render(64, 48)
+    assert np.array_equal(wrinkle.read_exr(tmp_path / "a_0036.exr")["R"], frame["color"][..., 0])
+    assert not np.array_equal(scene.render(64, 48)["color"], frame["color"])
+    with pytest.raises(ValueError, match="animation"):
+        wrinkle.Scene.default().at(1.0)
+    assert wrinkle.Scene.default().animation_end is None
+
+
 def test_shapes_dtypes_and_aovs_of_an_analytic_sphere():
     scene = wrinkle.Scene.from_toml(SPHERE)
     f = scene.render(64, 48, aov=("normal", "uv", "depth", "id", "primitive", "alpha"))

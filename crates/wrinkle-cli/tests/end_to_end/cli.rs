@@ -224,6 +224,47 @@ fn turntable_writes_numbered_frames_that_differ() {
     assert_ne!(frames[0], frames[2]);
 }
 
+/// `--frames A..B --fps F` on an animated scene writes frames A to B, each numbered as its frame, frame f
+/// the library's scene at time f / F bit for bit.
+#[test]
+fn an_animated_scene_renders_its_frames_at_their_times() {
+    let s = Scratch::new("animation");
+    let scene_file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/animation.toml");
+    let out = s.out("a.exr");
+    let args = ["--frames", "2..4", "--fps", "2", "--width", "64", "--height", "48"];
+    assert_ok(&wrinkle(&[&["render", scene_file.to_str().unwrap(), "-o", &out][..], &args].concat()));
+    assert_eq!(s.out_entries(), ["a_0002.exr", "a_0003.exr", "a_0004.exr"]);
+    let scene = wrinkle::Scene::load(&scene_file).unwrap();
+    let animation = scene.animation.clone().expect("animated");
+    let options = wrinkle::RenderOptions { width: 64, height: 48, ..Default::default() };
+    let red =
+        |f: &str| read_exr_channels(Path::new(&s.out(f))).unwrap().2.into_iter().find(|(n, _)| n == "R").unwrap().1;
+    let expected = wrinkle::render(&animation.scene_at(1.5).unwrap(), &options).unwrap().color;
+    let got = red("a_0003.exr");
+    assert!(got.iter().zip(&expected).all(|(g, e)| g.to_bits() == e[0].to_bits()), "frame 3 is not the scene at 1.5 s");
+    assert!(red("a_0002.exr") != got && red("a_0004.exr") != got, "the frames do not move");
+}
+
+/// A turntable over frames A..B turns from 0 degrees at A: frame 1 of 1..2 is the unturned frame.
+#[test]
+fn a_turntable_range_starts_unturned() {
+    let s = Scratch::new("turnrange");
+    assert_ok(&render_default(&s, &["--width", W, "--height", H, "--frames", "1..2", "--turntable"]));
+    let plain = s.out("plain.png");
+    assert_ok(&wrinkle(&["render", "-o", &plain, "--width", W, "--height", H]));
+    assert_eq!(fs::read(s.out("x_0001.png")).unwrap(), fs::read(&plain).unwrap());
+    assert_ne!(fs::read(s.out("x_0002.png")).unwrap(), fs::read(&plain).unwrap());
+}
+
+#[test]
+fn bad_frame_ranges() {
+    let s = Scratch::new("frameranges");
+    for (frames, words) in [("5..2", "backwards"), ("0", "at least 1"), ("a..3", "A..B"), ("1..", "A..B")] {
+        assert_one_error(&render_default(&s, &["--frames", frames, "--turntable"]), 2, &["--frames", words], &s);
+    }
+    assert_one_error(&render_default(&s, &["--fps", "0", "--width", W, "--height", H]), 2, &["--fps", "0"], &s);
+}
+
 // ---------------------------------------------------------------------------------------------
 // bumpgen and bench
 
@@ -419,7 +460,7 @@ fn unknown_output_extension() {
 fn frames_without_turntable() {
     let s = Scratch::new("frames");
     let run = render_default(&s, &["--width", W, "--height", H, "--frames", "2"]);
-    assert_one_error(&run, 2, &["--frames", "--turntable"], &s);
+    assert_one_error(&run, 2, &["--frames", "--turntable", "[[animation]]"], &s);
 }
 
 #[test]

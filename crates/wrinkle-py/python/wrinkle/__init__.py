@@ -141,6 +141,16 @@ class Scene:
         """How many objects the scene holds."""
         return self._scene.objects
 
+    @property
+    def animation_end(self) -> Optional[float]:
+        """The time in seconds of the last key of the scene's `[[animation]]` tracks (None without any)."""
+        return self._scene.animation_end
+
+    def at(self, time: float) -> "Scene":
+        """The scene at `time` seconds of its animation (as `wrinkle render --frames` renders frame
+        f at time f / fps); ValueError for a scene without `[[animation]]` tracks."""
+        return Scene(self._scene.at(float(time)))
+
     def render(
         self,
         width: int = 1280,
