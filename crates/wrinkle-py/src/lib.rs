@@ -6,6 +6,7 @@
 use pyo3::prelude::*;
 
 mod arrays;
+mod command;
 mod errors;
 mod images;
 mod noise;
@@ -29,6 +30,7 @@ fn _wrinkle(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("SceneError", m.py().get_type::<errors::SceneError>())?;
     m.add_class::<scene::Scene>()?;
     m.add_class::<texture::Texture>()?;
+    command::register(m)?;
     images::register(m)?;
     noise::register(m)?;
     Ok(())
