@@ -26,7 +26,7 @@ from .tables import (  # noqa: E402
     Torus, Volume, plain,
 )
 from ._arrays import floats, grey  # noqa: E402
-from ._wrinkle import SceneError  # noqa: E402
+from ._wrinkle import CommandError, SceneError  # noqa: E402
 
 __version__: str = _wrinkle.__version__
 #: The instruction set the loaded extension module was built for: "x86-64-v3", or "x86-64" for the portable
@@ -36,6 +36,7 @@ build_level: str = _wrinkle.BUILD_LEVEL
 __all__ = [
     "Bicubic", "Billboard", "Box", "Bump", "Camera", "Cylinder", "Environment", "Light", "Material", "Mesh",
     "Patch", "Sphere", "Table", "Torus", "Volume",
+    "CommandError",
     "Scene",
     "SceneError",
     "Texture",
@@ -47,6 +48,8 @@ __all__ = [
     "normal_map",
     "read_exr",
     "read_image",
+    "run_command",
+    "write_frame",
     "write_image",
     "to_srgb8",
 ]
@@ -412,3 +415,24 @@ def read_exr(path: PathLike) -> dict:
 def to_srgb8(linear) -> np.ndarray:
     """Linear values as 8-bit sRGB codes, exactly as the renderer encodes its PNG frames (any shape)."""
     return _wrinkle.encode_srgb8(floats(linear, "linear", ints=False))
+
+
+def write_frame(path: PathLike, frame: dict) -> None:
+    """Writes a frame, the dict `Scene.render` returns, as `wrinkle render -o PATH` writes it, byte for
+    byte: PNG (8-bit sRGB; RGBA with straight alpha where the frame has "alpha") or EXR (linear,
+    premultiplied) by the extension, and each AOV it holds as PATH.<name>.exr; all placed together or none."""
+    arrays = {}
+    for key, dtype in (("color", np.float32), ("alpha", np.float32), ("normal", np.float32), ("uv", np.float32),
+                       ("depth", np.float32), ("id", np.float32), ("primitive", np.uint32)):
+        if key in frame:
+            arrays[key] = np.ascontiguousarray(frame[key], dtype=dtype)
+    if "color" not in arrays:
+        raise ValueError("frame: expected the dict Scene.render returns, with \"color\"")
+    _wrinkle.write_frame(Path(path), **arrays)
+
+
+def run_command(*args) -> None:
+    """Runs the `wrinkle` command line in this process: `run_command("normalmap", "h.png", "-o", "n.png",
+    "--strength", 4)` does what `wrinkle normalmap h.png -o n.png --strength 4` does, with the same options,
+    outputs and messages. A failure raises CommandError(message, exit_code)."""
+    _wrinkle.run_command([os.fspath(a) if isinstance(a, os.PathLike) else str(a) for a in args])

@@ -17,6 +17,21 @@ def cpu_runs_x86_64_v3() -> bool:
 F32 = npt.NDArray[np.float32]
 U8 = npt.NDArray[np.uint8]
 
+class CommandError(RuntimeError):
+    """A `wrinkle` command that failed: args are its one-line message and its exit code."""
+
+def run_command(args: List[str]) -> None: ...
+def write_frame(
+    path: PathLike[str],
+    color: F32,
+    alpha: Optional[F32] = None,
+    normal: Optional[F32] = None,
+    uv: Optional[F32] = None,
+    depth: Optional[F32] = None,
+    id: Optional[F32] = None,
+    primitive: Optional[npt.NDArray[np.uint32]] = None,
+) -> None: ...
+
 class SceneError(ValueError):
     """A scene that cannot be used: a missing, mistyped or out-of-range field, named by its path."""
 
