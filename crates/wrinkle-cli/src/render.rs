@@ -279,7 +279,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         };
         if let Some(n) = args.tile {
             let t = std::time::Instant::now();
-            crate::tiles::render_in_tiles(&scene, &options, n, &out, &mut set, !animated)?;
+            crate::tiles::render_in_tiles(scene, &options, n, &out, &mut set, !animated)?;
             if args.stats {
                 eprintln!(
                     "{}: {n}x{n} tiles rendered and written in {:.1} ms",
@@ -297,7 +297,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         let long = !animated
             && (options.width * options.height * options.spp >= LONG_FRAME_SAMPLES || !scene.volumes.is_empty());
         let frame_bar = long.then(|| Progress::new("render", 0, "bands", "{percent}% of the frame"));
-        let frame = render_with_progress(&scene, &options, &|done, total| {
+        let frame = render_with_progress(scene, &options, &|done, total| {
             if let Some(b) = &frame_bar {
                 b.set_length(total as u64);
                 b.set_position(done as u64);

@@ -337,7 +337,7 @@ impl SamplePattern {
         if self.spp == 1 {
             return vec![[SUBPIXEL / 2, SUBPIXEL / 2]];
         }
-        let ny = (1..=self.spp).filter(|d| self.spp % d == 0 && d * d <= self.spp).max().unwrap_or(1);
+        let ny = (1..=self.spp).filter(|d| self.spp.is_multiple_of(*d) && d * d <= self.spp).max().unwrap_or(1);
         let nx = self.spp / ny;
         let mut offsets = Vec::with_capacity(self.spp);
         for b in 0..ny {

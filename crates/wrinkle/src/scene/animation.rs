@@ -98,7 +98,7 @@ impl Track {
     fn parse(path: &str, v: &Value, document: &Value) -> Result<Track> {
         let f = Fields::new(path, v, &["target", "keys", "interpolation"])?;
         let target = f.required("target", f.string("target")?)?;
-        let steps = parse_steps(&target).ok_or_else(|| {
+        let steps = parse_steps(target).ok_or_else(|| {
             Error::scene(f.at("target"), format!("\"{target}\" is not a field path like objects[0].transform.rotate"))
         })?;
         let mut probe = document.clone();

@@ -42,8 +42,9 @@ fn scene_text(texture: &str) -> String {
 
 fn scene() -> Scene {
     let dir = scratch_dir("sampling");
-    let texels: Vec<u8> =
-        (0..CHECKS * CHECKS).flat_map(|k| if (k % CHECKS + k / CHECKS) % 2 == 0 { [255; 3] } else { [0; 3] }).collect();
+    let texels: Vec<u8> = (0..CHECKS * CHECKS)
+        .flat_map(|k| if (k % CHECKS + k / CHECKS).is_multiple_of(2) { [255; 3] } else { [0; 3] })
+        .collect();
     write_png_rgb8(&dir.join("checks.png"), CHECKS, CHECKS, &texels).unwrap();
     Scene::parse(&scene_text("checks.png"), &dir).unwrap()
 }
