@@ -183,6 +183,7 @@ fn check_against_outline(count: &[u16], samples: &[[f64; 2]], hull: &[[f64; 2]])
     (inside, count.iter().copied().max().unwrap_or(0), holes, spill)
 }
 
+#[derive(Clone, Copy)]
 struct SphereView {
     name: &'static str,
     eye: [f64; 3],
@@ -208,6 +209,18 @@ const ORTHO_HEIGHT: f64 = 2.6;
 /// outside it is covered). The tessellation is checked to be convex first, so that this reference holds.
 #[test]
 fn tessellated_sphere_is_watertight() {
+    let off_centre = SphereView {
+        name: "off-centre and cut by the border, 61 x 29, spp 1",
+        eye: [-0.4, 0.9, 3.5],
+        look_at: [1.3, -0.8, 0.0],
+        fov: Some(40.0),
+        size: (200, 150),
+        segments: (61, 29),
+        rotate: [13.7, 71.3, -42.1],
+        translate: [0.05, 0.1, -0.2],
+        spp: 1,
+        sobol_filter: None,
+    };
     let views = [
         SphereView {
             name: "tilted, 32 x 16, spp 16",
@@ -233,18 +246,7 @@ fn tessellated_sphere_is_watertight() {
             spp: 16,
             sobol_filter: None,
         },
-        SphereView {
-            name: "off-centre and cut by the border, 61 x 29, spp 1",
-            eye: [-0.4, 0.9, 3.5],
-            look_at: [1.3, -0.8, 0.0],
-            fov: Some(40.0),
-            size: (200, 150),
-            segments: (61, 29),
-            rotate: [13.7, 71.3, -42.1],
-            translate: [0.05, 0.1, -0.2],
-            spp: 1,
-            sobol_filter: None,
-        },
+        off_centre,
         SphereView {
             name: "close up, wide angle, odd image, 45 x 23, spp 4",
             eye: [0.2, -0.3, 1.9],
@@ -283,15 +285,9 @@ fn tessellated_sphere_is_watertight() {
         },
         SphereView {
             name: "off-centre, cut by the border, 8 Sobol samples over a Lanczos filter",
-            eye: [-0.4, 0.9, 3.5],
-            look_at: [1.3, -0.8, 0.0],
-            fov: Some(40.0),
-            size: (200, 150),
-            segments: (61, 29),
-            rotate: [13.7, 71.3, -42.1],
-            translate: [0.05, 0.1, -0.2],
             spp: 8,
             sobol_filter: Some("lanczos"),
+            ..off_centre
         },
     ];
     for view in &views {
