@@ -278,7 +278,7 @@ impl SamplePattern {
         self.reach
     }
 
-    /// Whether every pixel has the same offsets (they are then `offsets(0, 0)`).
+    /// Whether every pixel has the same offsets.
     pub fn is_same_everywhere(&self) -> bool {
         self.same.is_some()
     }

@@ -74,7 +74,7 @@ pub struct VisBuffer {
     /// The triangles near the samples being peeled one by one.
     nearby: Vec<u32>,
     /// Where the tile's samples lie in their pixels.
-    pub samples: TileOffsets,
+    samples: TileOffsets,
 }
 
 impl VisBuffer {
