@@ -142,9 +142,11 @@ def test_without_ray_the_farm_says_how_to_get_it(monkeypatch):
         farm._ray()
 
 
-def test_the_command_line(tmp_path, capsys):
+def test_the_command_line(cli, tmp_path, capsys):
     out = tmp_path / "m.png"
-    assert farm.main(["render", "-o", str(out), "--width", "64", "--height", "48", "--tiles", "32", "--quiet"]) == 0
-    assert out.exists()
+    args = ["--width", "64", "--height", "48", "--bump-filter", "mip"]
+    assert farm.main(["render", "-o", str(out), "--tiles", "32", "--quiet", *args]) == 0
+    cli("render", "-o", tmp_path / "c.png", *args)
+    assert out.read_bytes() == (tmp_path / "c.png").read_bytes()
     assert farm.main(["render", "-o", str(out), "--frames", "2", "--quiet"]) == 2
     assert "add --turntable" in capsys.readouterr().err

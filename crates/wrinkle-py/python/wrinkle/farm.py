@@ -365,19 +365,25 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--fps", type=float, default=24.0)
     r.add_argument("--tiles", type=int, metavar="N", help="render each frame in N x N tiles, one task each")
     r.add_argument("--ship", action="store_true", help="upload the scene's folder to the workers (no shared storage)")
+    # The options of `wrinkle render` (its --help says more).
     r.add_argument("--width", type=int, default=1280)
     r.add_argument("--height", type=int, default=720)
-    r.add_argument("--spp", type=int, default=1)
-    r.add_argument("--sampler", default="stratified")
-    r.add_argument("--pixel-filter", default="box")
-    r.add_argument("--turntable", action="store_true")
+    r.add_argument("--spp", type=int, default=1, help="samples per pixel, 1 to 4096")
+    r.add_argument("--sampler", default="stratified", choices=["stratified", "sobol"])
+    r.add_argument("--pixel-filter", default="box", help="box, tent, gaussian, mitchell or lanczos, or NAME:RADIUS")
+    r.add_argument("--turntable", action="store_true", help="one full turn of the objects over the frames")
     r.add_argument("--aov", default="", help="comma-separated: normal, uv, depth, id, primitive")
     r.add_argument("--background", default="scene", choices=["scene", "transparent"])
-    r.add_argument("--no-bump", action="store_true")
-    r.add_argument("--bump-filter")
+    r.add_argument("--no-bump", action="store_true", help="render without bump mapping")
+    r.add_argument("--bump-filter", help="filter every bump function: none, mip or a texture filter")
     r.add_argument("--transparency", default="sorted", choices=["sorted", "exact"])
 
-    i = sub.add_parser("images", parents=[farm], help="run an image command on every image of a folder")
+    i = sub.add_parser(
+        "images", parents=[farm], help="run an image command on every image of a folder",
+        description="Runs `wrinkle COMMAND IMAGE -o OUT_DIR/<name>.png OPTIONS` on every image of IN_DIR, one Ray "
+        "task per file. Every option not listed here is the command's own (`wrinkle COMMAND --help`), for example "
+        "--strength 4 --depth 16 for normalmap.",
+    )
     i.add_argument("command", choices=["normalmap", "emboss", "heightmap", "mipmap"])
     i.add_argument("in_dir", type=Path)
     i.add_argument("out_dir", type=Path)
@@ -399,7 +405,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                 turntable=args.turntable, retries=args.retries, progress=not args.quiet,
                 width=args.width, height=args.height, spp=args.spp, sampler=args.sampler,
                 pixel_filter=args.pixel_filter, aov=tuple(a for a in args.aov.split(",") if a),
-                bump=not args.no_bump, bump_filter=args.bump_filter,
+                # As `wrinkle render`: none is the full-resolution table read bilinearly, mip trilinear.
+                bump=not args.no_bump, bump_filter={"none": "bilinear", "mip": "trilinear"}.get(args.bump_filter, args.bump_filter),
                 transparent=args.background == "transparent", transparency=args.transparency,
             )
         else:
