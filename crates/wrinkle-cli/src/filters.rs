@@ -1,9 +1,9 @@
 //! `wrinkle filters`: one view rendered with every texture filter side by side, labelled, beside a ground
 //! truth panel, with the time and error of each filter against that ground truth.
 //!
-//! The ground truth renders 16 stratified samples per pixel, each at its exact (u,v) on the surface, and
-//! integrates the bilinear texture over each sample's quarter-pixel cell with 8 x 8 more samples: the
-//! integral over the pixel's preimage from 32 x 32 samples.
+//! The ground truth is the integral of the bilinear texture over each pixel's preimage: TRUTH_SPP Sobol
+//! samples a pixel, each at its own exact (u,v) on the surface. Rendered again with another seed, the two
+//! estimates' agreement is printed as the truth's own noise floor.
 
 use crate::render::load_scene;
 use crate::sheet;
@@ -16,8 +16,9 @@ use wrinkle::bump::generators::{text as text_image, TextParams};
 use wrinkle::image::color::srgb_to_linear;
 use wrinkle::image::{io, Image};
 use wrinkle::mapping::{MappedTexture, Mapping, UvTransform};
+use wrinkle::texture::reconstruct::Kernel;
 use wrinkle::texture::{Filter, FilteredTexture, TextureOptions};
-use wrinkle::{render, Error, RenderOptions, Result, Scene};
+use wrinkle::{render, Error, RenderOptions, Result, Sampler, Scene};
 
 #[derive(Args, Debug)]
 #[command(
@@ -48,6 +49,9 @@ pub struct FiltersArgs {
     #[arg(long)]
     pub threads: Option<usize>,
 }
+
+/// The ground truth's samples per pixel.
+const TRUTH_SPP: usize = 256;
 
 /// The filters of the sheet by default, in the order of the slides' ladder.
 const DEFAULT_FILTERS: [&str; 11] =
@@ -175,11 +179,21 @@ pub fn run(args: &FiltersArgs) -> Result<()> {
         return Err(Error::Invalid("the scene has no colour texture to filter".into()));
     }
 
-    let bar = sheet::progress("filters", filters.len() + 1);
+    let bar = sheet::progress("filters", filters.len() + 2);
     bar.set_message("ground truth");
-    scene.set_texture_filter(Filter::Reference);
-    let truth = render(&scene, &RenderOptions { spp: 16, ..options.clone() })?.color;
-    bar.inc(1);
+    // Each sample reads the bilinear texture at its own (u,v): the samples integrate over the preimage.
+    scene.set_texture_filter(Filter::Reconstruct(Kernel::Bilinear));
+    let truth_of = |seed: u32| {
+        let truth = RenderOptions { spp: TRUTH_SPP, sampler: Sampler::Sobol, seed, ..options.clone() };
+        let t = Instant::now();
+        let frame = render(&scene, &truth).map(|f| (f.color, t.elapsed().as_secs_f64() * 1e3));
+        bar.inc(1);
+        frame
+    };
+    let (truth, _) = truth_of(0)?;
+    // The same truth from other samples: how far it is from the first is the truth's own noise floor.
+    let (again, again_ms) = truth_of(1)?;
+    let floor = Panel { name: "truth, seed 1".into(), rmse: rmse(&again, &truth), pixels: again, ms: again_ms };
     let mut panels = Vec::new();
     for (name, &filter) in names.iter().zip(&filters) {
         bar.set_message(name.clone());
@@ -193,7 +207,9 @@ pub fn run(args: &FiltersArgs) -> Result<()> {
         bar.inc(1);
     }
     bar.finish();
-    panels.push(Panel { name: "ground truth".into(), pixels: truth, ms: f64::NAN, rmse: 0.0 });
+    // Its label: its own noise floor.
+    let truth_label = format!("truth ({:.1} dB)", psnr(floor.rmse));
+    panels.push(Panel { name: truth_label, pixels: truth, ms: f64::NAN, rmse: 0.0 });
 
     let labelled: Vec<sheet::Panel> = panels
         .iter()
@@ -204,11 +220,14 @@ pub fn run(args: &FiltersArgs) -> Result<()> {
         .collect();
     let sheet = sheet::compose(&labelled, args.width, args.height, args.columns);
     io::write_png_rgb8(&args.output, sheet.width, sheet.height, &sheet.pixels)?;
-    print_table(&panels[..panels.len() - 1], args.json);
+    let mut rows: Vec<&Panel> = panels[..panels.len() - 1].iter().collect();
+    rows.push(&floor);
+    print_table(&rows, args.json);
     Ok(())
 }
 
-fn print_table(panels: &[Panel], json: bool) {
+/// The filters' rows, and last the truth rendered with another seed against the truth (its noise floor).
+fn print_table(panels: &[&Panel], json: bool) {
     if json {
         let rows: Vec<String> = panels
             .iter()

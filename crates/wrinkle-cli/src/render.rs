@@ -76,6 +76,10 @@ pub struct FrameArgs {
     /// proportion to the filter around each pixel's centre, so a wide filter needs several --spp.
     #[arg(long, default_value = "box", value_name = "NAME[:RADIUS]")]
     pub pixel_filter: String,
+    /// Seeds the Sobol sampler's per-pixel scrambles: renders with other seeds are independent estimates of
+    /// the same image.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u32,
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
@@ -116,6 +120,7 @@ impl FrameArgs {
             spp: self.spp,
             sampler: Sampler::parse(&self.sampler).expect("clap checked the sampler"),
             pixel_filter: PixelFilter::parse(&self.pixel_filter)?,
+            seed: self.seed,
             bump: !self.no_bump,
             bump_filter: self.bump_filter.as_deref().map(bump_filter),
             transparency: match self.transparency.as_str() {

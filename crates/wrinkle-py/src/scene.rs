@@ -75,7 +75,7 @@ impl Scene {
 
     /// Renders a frame: "color" (H, W, 3) linear RGB and each AOV named in `aovs`, as arrays. `progress`,
     /// when given, is called with (done, total) from the calling thread as bands finish.
-    #[pyo3(signature = (width, height, spp, aovs, bump, bump_filter, transparent, transparency, turntable, progress, crop=None, sampler="stratified", pixel_filter="box"))]
+    #[pyo3(signature = (width, height, spp, aovs, bump, bump_filter, transparent, transparency, turntable, progress, crop=None, sampler="stratified", pixel_filter="box", seed=0))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
@@ -93,6 +93,7 @@ impl Scene {
         crop: Option<(usize, usize, usize, usize)>,
         sampler: &str,
         pixel_filter: &str,
+        seed: u32,
     ) -> PyResult<Bound<'py, PyDict>> {
         let mut kinds = Aovs::default();
         for name in &aovs {
@@ -119,6 +120,7 @@ impl Scene {
                 invalid(format!("sampler: expected one of {}, got \"{sampler}\"", Sampler::NAMES.join(", ")))
             })?,
             pixel_filter: PixelFilter::parse(pixel_filter).py_err()?,
+            seed,
             bump,
             bump_filter: bump_filter
                 .map(|f| {

@@ -416,15 +416,17 @@ fn unknown_pixel_filter() {
     assert_one_error(&render_default(&s, &["--sampler", "halton"]), 2, &["--sampler", "halton"], &s);
 }
 
-/// `--spp`, `--sampler` and `--pixel-filter` reach the renderer: the EXR of the cover scene at 7 Sobol
-/// samples over a Mitchell filter is, bit for bit, the library's render with those options, and far from
-/// the same samples box-filtered.
+/// `--spp`, `--sampler`, `--pixel-filter` and `--seed` reach the renderer: the EXR of the cover scene at 7
+/// Sobol samples over a Mitchell filter, seed 5, is bit for bit the library's render with those options, not
+/// the render with seed 0, and far from the same samples box-filtered.
 #[test]
 fn sampling_options_reach_the_renderer() {
     let s = Scratch::new("sampling");
     let size = ["--width", "96", "--height", "64", "--spp", "7", "--sampler", "sobol"];
     let (mitchell, boxed) = (s.out("mitchell.exr"), s.out("box.exr"));
-    assert_ok(&wrinkle(&[&["render", "-o", &mitchell, "--pixel-filter", "mitchell"][..], &size].concat()));
+    assert_ok(&wrinkle(
+        &[&["render", "-o", &mitchell, "--pixel-filter", "mitchell", "--seed", "5"][..], &size].concat(),
+    ));
     assert_ok(&wrinkle(&[&["render", "-o", &boxed][..], &size].concat()));
     let options = wrinkle::RenderOptions {
         width: 96,
@@ -432,9 +434,14 @@ fn sampling_options_reach_the_renderer() {
         spp: 7,
         sampler: wrinkle::Sampler::Sobol,
         pixel_filter: wrinkle::PixelFilter::parse("mitchell").unwrap(),
+        seed: 5,
         ..Default::default()
     };
     let expected = wrinkle::render(&wrinkle::Scene::default_scene(), &options).unwrap().color;
+    let seed_0 = wrinkle::render(&wrinkle::Scene::default_scene(), &wrinkle::RenderOptions { seed: 0, ..options })
+        .unwrap()
+        .color;
+    assert!(seed_0 != expected, "the seed changed nothing");
     let red = |f: &str| read_exr_channels(Path::new(f)).unwrap().2.into_iter().find(|(n, _)| n == "R").unwrap().1;
     let (got, other) = (red(&mitchell), red(&boxed));
     assert!(got.iter().zip(&expected).all(|(g, e)| g.to_bits() == e[0].to_bits()), "the CLI's render differs");
@@ -534,13 +541,16 @@ fn filters_writes_a_labelled_sheet_and_a_table_of_errors() {
     assert_ok(&run);
     // Two filters and the ground truth in one row of three 64 px panels with 4 px gaps; a 20 px label strip.
     assert_eq!(png_header(&out), (3 * 68 + 4, 48 + 20 + 8, 8, 2));
-    assert_eq!(run.stdout.matches("\"filter\"").count(), 2, "{}", run.stdout);
+    // The two filters, and the ground truth from other samples (another seed) against the ground truth.
+    assert_eq!(run.stdout.matches("\"filter\"").count(), 3, "{}", run.stdout);
     // EWA is much closer to the ground truth than bilinear without MIP maps.
     let psnr = |name: &str| -> f64 {
         let line = run.stdout.lines().find(|l| l.contains(&format!("\"{name}\""))).unwrap();
         line.split("\"psnr_db\": ").nth(1).unwrap().trim_end_matches(['}', ',']).parse().unwrap()
     };
     assert!(psnr("ewa") > psnr("bilinear") + 3.0, "{}", run.stdout);
+    // The truth's noise floor lies far above the best filter's error.
+    assert!(psnr("truth, seed 1") > 45.0 && psnr("truth, seed 1") > psnr("ewa") + 10.0, "{}", run.stdout);
     assert_eq!(s.out_entries(), ["sheet.png"]);
 }
 

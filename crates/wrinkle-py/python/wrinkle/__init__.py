@@ -170,6 +170,7 @@ class Scene:
         crop: Optional[Tuple[int, int, int, int]] = None,
         sampler: str = "stratified",
         pixel_filter: str = "box",
+        seed: int = 0,
     ) -> dict:
         """Renders a frame as `wrinkle render` does, returning arrays by name:
 
@@ -183,7 +184,8 @@ class Scene:
 
         `spp` is 1 to 4096 samples per pixel, placed by `sampler`: "stratified" (jittered strata, the same in
         every pixel) or "sobol" (Owen-scrambled per pixel). `pixel_filter` makes the pixel from them: "box",
-        "tent", "gaussian", "mitchell" or "lanczos", or "NAME:RADIUS". `progress=True` shows a tqdm bar; a
+        "tent", "gaussian", "mitchell" or "lanczos", or "NAME:RADIUS"; `seed` seeds the Sobol scrambles
+        (renders with other seeds are independent estimates of the same image). `progress=True` shows a tqdm bar; a
         callable gets (done, total). Ctrl-C stops the render promptly (KeyboardInterrupt)."""
         if isinstance(aov, str):
             aov = (aov,)
@@ -192,7 +194,7 @@ class Scene:
             return self._scene.render(
                 int(width), int(height), int(spp), [str(a) for a in aov], bool(bump), bump_filter,
                 bool(transparent), str(transparency), float(turntable), callback,
-                None if crop is None else tuple(int(c) for c in crop), str(sampler), str(pixel_filter),
+                None if crop is None else tuple(int(c) for c in crop), str(sampler), str(pixel_filter), int(seed),
             )
         finally:
             if bar is not None:

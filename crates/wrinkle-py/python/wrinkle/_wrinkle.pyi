@@ -65,6 +65,7 @@ class Scene:
         crop: Optional[Tuple[int, int, int, int]] = None,
         sampler: str = "stratified",
         pixel_filter: str = "box",
+        seed: int = 0,
     ) -> Dict[str, np.ndarray]: ...
 
 class Texture:

@@ -233,6 +233,8 @@ pub struct SamplePattern {
     /// The one-dimensional filter's sign at each fixed-point offset from -reach pixels on, where it has
     /// negative lobes (a table: the sinc of a Lanczos filter costs more than the rest of a sample's resolve).
     signs: Vec<f32>,
+    /// Mixed into every pixel's scramble (Sobol): another seed, other patterns of the same quality.
+    seed: u32,
 }
 
 impl SamplePattern {
@@ -257,11 +259,17 @@ impl SamplePattern {
                 .collect(),
             false => Vec::new(),
         };
-        let mut pattern = SamplePattern { spp, filter, warp, same: None, reach, signs };
+        let mut pattern = SamplePattern { spp, filter, warp, same: None, reach, signs, seed: 0 };
         if sampler == Sampler::Stratified {
             pattern.same = Some(pattern.stratified());
         }
         Ok(pattern)
+    }
+
+    /// The pattern with every pixel's Sobol scramble seeded by `seed` too (stratified patterns do not
+    /// change): independent renders of the same sample count, for error estimates.
+    pub fn seeded(self, seed: u32) -> SamplePattern {
+        SamplePattern { seed, ..self }
     }
 
     /// One sample at the centre of every pixel: the pattern of shadow maps.
@@ -307,7 +315,7 @@ impl SamplePattern {
         match &self.same {
             Some(same) => out.copy_from_slice(same),
             None => {
-                let seed = pixel_seed(x, y);
+                let seed = pixel_seed(x, y) ^ mix(self.seed.wrapping_mul(0x9e37_79b9));
                 let seeds = [seed, mix(seed ^ 0x5bd1_e995)];
                 for (i, o) in out.iter_mut().enumerate() {
                     let p = sobol2(i as u32);
@@ -494,8 +502,8 @@ mod tests {
     fn scrambled_sobol_is_a_net_in_every_pixel() {
         for spp in [4usize, 16, 64, 256] {
             let p = SamplePattern::new(spp, Sampler::Sobol, PixelFilter::default()).unwrap();
-            for (x, y) in [(0, 0), (1, 0), (17, 33), (1919, 1079)] {
-                let o = offsets(&p, x, y);
+            for (x, y, seed) in [(0, 0, 0), (1, 0, 0), (17, 33, 0), (1919, 1079, 0), (17, 33, 3)] {
+                let o = offsets(&p.clone().seeded(seed), x, y);
                 let mut nx = 1;
                 while nx <= spp {
                     let ny = spp / nx;
@@ -511,6 +519,8 @@ mod tests {
             }
             assert_ne!(offsets(&p, 0, 0), offsets(&p, 1, 0));
             assert_ne!(offsets(&p, 0, 0), offsets(&p, 0, 1));
+            let other = p.clone().seeded(7);
+            assert_ne!(offsets(&p, 5, 5), offsets(&other, 5, 5), "the seed changes the scramble");
         }
     }
 

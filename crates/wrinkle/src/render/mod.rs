@@ -55,6 +55,9 @@ pub struct RenderOptions {
     /// How the samples make the pixel: each is drawn in proportion to the filter's magnitude around the
     /// pixel's centre and weighs its sign (the box over the pixel by default).
     pub pixel_filter: PixelFilter,
+    /// Seeds the Sobol sampler's per-pixel scrambles: renders with different seeds are independent
+    /// estimates of the same image (their difference measures the noise).
+    pub seed: u32,
     pub bump: bool,
     /// Replaces every material's bump filter when set.
     pub bump_filter: Option<Filter>,
@@ -98,6 +101,7 @@ impl Default for RenderOptions {
             spp: 1,
             sampler: Sampler::default(),
             pixel_filter: PixelFilter::default(),
+            seed: 0,
             bump: true,
             bump_filter: None,
             turntable_degrees: 0.0,
@@ -117,7 +121,7 @@ impl RenderOptions {
 
     /// Where each pixel's samples lie and what they weigh.
     fn sample_pattern(&self) -> Result<SamplePattern> {
-        SamplePattern::new(self.spp, self.sampler, self.pixel_filter)
+        Ok(SamplePattern::new(self.spp, self.sampler, self.pixel_filter)?.seeded(self.seed))
     }
 
     /// The side of the square screen tiles: about 4096 samples a tile (64 x 64 at one sample a pixel), at
