@@ -1,17 +1,20 @@
 //! `wrinkle filters`: one view rendered with every texture filter side by side, labelled, beside a ground
-//! truth panel, with the time and error of each filter against that ground truth.
+//! truth panel, with the time and error of each filter against that ground truth; with `--bump`, a shiny
+//! bump-mapped view with every bump filter beside Blinn's correct solution, the intensities supersampled.
 //!
-//! The ground truth is the integral of the bilinear texture over each pixel's preimage: TRUTH_SPP Sobol
-//! samples a pixel, each at its own exact (u,v) on the surface. Rendered again with another seed, the two
-//! estimates' agreement is printed as the truth's own noise floor.
+//! The ground truth is the integral of the bilinear texture (of the intensity, for bumps: each sample
+//! shaded with the full-resolution bump table) over each pixel's preimage: TRUTH_SPP Sobol samples a pixel,
+//! each at its own exact (u,v) on the surface. Rendered again with another seed, the two estimates'
+//! agreement is printed as the truth's own noise floor.
 
-use crate::render::load_scene;
+use crate::render::{bump_filter, load_scene};
 use crate::sheet;
 use clap::Args;
 use glam::Vec2;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
+use wrinkle::bump::function::filter_choices;
 use wrinkle::bump::generators::{text as text_image, TextParams};
 use wrinkle::image::color::srgb_to_linear;
 use wrinkle::image::{io, Image};
@@ -39,6 +42,10 @@ pub struct FiltersArgs {
     /// The filters to compare (comma-separated); default: every filter.
     #[arg(long, value_delimiter = ',')]
     pub filters: Vec<String>,
+    /// Compare the bump filters instead (none, mip and the texture filters) on a shiny bump-mapped view,
+    /// against the intensities supersampled over the full-resolution bump table (Blinn's correct solution).
+    #[arg(long)]
+    pub bump: bool,
     /// Panels per row of the sheet.
     #[arg(long, default_value_t = 4)]
     pub columns: usize,
@@ -56,6 +63,8 @@ const TRUTH_SPP: usize = 256;
 /// The filters of the sheet by default, in the order of the slides' ladder.
 const DEFAULT_FILTERS: [&str; 11] =
     ["nearest", "bilinear", "bicubic", "gaussian", "lanczos", "trilinear", "ripmap", "sat", "aniso", "ewa", "bspline"];
+/// The bump filters of the `--bump` sheet by default: Blinn's unfiltered table and the MIP-based filters.
+const DEFAULT_BUMP_FILTERS: [&str; 7] = ["none", "mip", "ripmap", "sat", "aniso", "ewa", "bspline"];
 
 /// The classic view: a plane receding to the horizon and a sphere, lit softly so the textures dominate.
 /// The plane is laid as rows of patches that double in size with distance (the renderer tessellates a
@@ -130,6 +139,64 @@ fn classic_scene() -> Result<Scene> {
     Ok(scene)
 }
 
+/// The `--bump` view: the classic plane and sphere, grey and shiny, the plane carrying a grid of grooves
+/// (the same on every row: Blinn's scale-invariant D), lit from beyond the horizon so every groove glints.
+fn bump_scene() -> Result<Scene> {
+    let mut text = CLASSIC
+        .replace("intensity = 0.55", "intensity = 0.15")
+        .replace("direction = [-0.4, -1.0, -0.5]\nintensity = 0.6", "direction = [0.15, -0.35, 1.0]\nintensity = 1.0");
+    text = text.replace(
+        "material = { color = [1.0, 1.0, 1.0], specular = 0.2, shininess = 30.0 }",
+        "material = { color = [0.6, 0.6, 0.6], specular = 0.7, shininess = 60.0 }",
+    );
+    for (near, far, half) in ROWS {
+        let repeat = [2.0 * half / PERIOD, (near - far) / PERIOD];
+        text += &format!(
+            "\n[[object]]\nshape = \"patch\"\ncorners = [[{}, 0.0, {near}], [{half}, 0.0, {near}], [{half}, 0.0, {far}], [{}, 0.0, {far}]]\n\
+             [object.material]\ncolor = [0.45, 0.45, 0.5]\nspecular = 0.8\nshininess = 80.0\n\
+             bump = {{ generator = {{ kind = \"grid\", size = 64, cells = 2, line_width = 0.25, soft = 0.15 }}, scale = 0.02, invariant = true, repeat = [{:?}, {:?}] }}\n",
+            -half, -half, repeat[0], repeat[1]
+        );
+    }
+    Scene::parse(&text, std::path::Path::new("."))
+}
+
+/// What a sheet compares: the colour textures' filters, or the bump functions'.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Subject {
+    Textures,
+    Bumps,
+}
+
+impl Subject {
+    /// The options that render `scene` with every texture (or bump) filtered by `filter`.
+    fn with_filter(self, scene: &mut Scene, options: &RenderOptions, filter: Filter) -> RenderOptions {
+        match self {
+            Subject::Textures => {
+                scene.set_texture_filter(filter);
+                options.clone()
+            }
+            Subject::Bumps => RenderOptions { bump_filter: Some(filter), ..options.clone() },
+        }
+    }
+
+    /// The filter named `name`, as `--filters` (or `--bump-filter`, for bumps) reads it.
+    fn parse(self, name: &str) -> Result<Filter> {
+        match self {
+            Subject::Textures => Filter::parse(name).ok_or_else(|| {
+                Error::Invalid(format!("--filters: unknown filter \"{name}\" (expected {})", Filter::names()))
+            }),
+            Subject::Bumps => match filter_choices().iter().any(|(n, _)| *n == name) {
+                true => Ok(bump_filter(name)),
+                false => Err(Error::Invalid(format!(
+                    "--filters: unknown bump filter \"{name}\" (expected none, mip, {})",
+                    Filter::names()
+                ))),
+            },
+        }
+    }
+}
+
 /// A filter's panel with its time and its error against the ground truth.
 struct Panel {
     name: String,
@@ -156,35 +223,37 @@ pub fn run(args: &FiltersArgs) -> Result<()> {
     crate::set_threads(args.threads)?;
     crate::output::require_extension(&args.output, &["png"])?;
     sheet::check_columns(args.columns)?;
+    let subject = if args.bump { Subject::Bumps } else { Subject::Textures };
+    let defaults: &[&str] = if args.bump { &DEFAULT_BUMP_FILTERS } else { &DEFAULT_FILTERS };
     let names: Vec<String> = if args.filters.is_empty() {
-        DEFAULT_FILTERS.iter().map(|s| s.to_string()).collect()
+        defaults.iter().map(|s| s.to_string()).collect()
     } else {
         args.filters.iter().map(|s| s.trim().to_string()).collect()
     };
-    let filters = names
-        .iter()
-        .map(|n| {
-            Filter::parse(n).ok_or_else(|| {
-                Error::Invalid(format!("--filters: unknown filter \"{n}\" (expected {})", Filter::names()))
-            })
-        })
-        .collect::<Result<Vec<_>>>()?;
+    let filters = names.iter().map(|n| subject.parse(n)).collect::<Result<Vec<_>>>()?;
     let options = RenderOptions { width: args.width, height: args.height, ..RenderOptions::default() };
     options.validate()?;
-    let mut scene = match &args.scene {
-        Some(_) => load_scene(args.scene.as_deref())?,
-        None => classic_scene()?,
+    let mut scene = match (&args.scene, subject) {
+        (Some(_), _) => load_scene(args.scene.as_deref())?,
+        (None, Subject::Textures) => classic_scene()?,
+        (None, Subject::Bumps) => bump_scene()?,
     };
-    if !scene.materials.iter().any(|m| m.colour_texture().is_some()) {
-        return Err(Error::Invalid("the scene has no colour texture to filter".into()));
+    let has_subject = |m: &wrinkle::Material| match subject {
+        Subject::Textures => m.colour_texture().is_some(),
+        Subject::Bumps => m.bump.is_some(),
+    };
+    if !scene.materials.iter().any(has_subject) {
+        let what = if args.bump { "bump map" } else { "colour texture" };
+        return Err(Error::Invalid(format!("the scene has no {what} to filter")));
     }
 
     let bar = sheet::progress("filters", filters.len() + 2);
     bar.set_message("ground truth");
-    // Each sample reads the bilinear texture at its own (u,v): the samples integrate over the preimage.
-    scene.set_texture_filter(Filter::Reconstruct(Kernel::Bilinear));
+    // Each sample reads the bilinear texture (or bump table, full resolution) at its own (u,v): the samples
+    // integrate the colour over the preimage.
+    let exact = subject.with_filter(&mut scene, &options, Filter::Reconstruct(Kernel::Bilinear));
     let truth_of = |seed: u32| {
-        let truth = RenderOptions { spp: TRUTH_SPP, sampler: Sampler::Sobol, seed, ..options.clone() };
+        let truth = RenderOptions { spp: TRUTH_SPP, sampler: Sampler::Sobol, seed, ..exact.clone() };
         let t = Instant::now();
         let frame = render(&scene, &truth).map(|f| (f.color, t.elapsed().as_secs_f64() * 1e3));
         bar.inc(1);
@@ -197,7 +266,7 @@ pub fn run(args: &FiltersArgs) -> Result<()> {
     let mut panels = Vec::new();
     for (name, &filter) in names.iter().zip(&filters) {
         bar.set_message(name.clone());
-        scene.set_texture_filter(filter);
+        let options = subject.with_filter(&mut scene, &options, filter);
         // Warm up (ripmaps and summed-area tables are built on first use), then time the second frame.
         render(&scene, &options)?;
         let t = Instant::now();

@@ -356,7 +356,7 @@ fn parse_crop(text: &str) -> Result<Crop> {
 }
 
 /// A `--bump-filter` name as a filter: `none` is Blinn's bilinear FVAL on the full-resolution table.
-fn bump_filter(name: &str) -> Filter {
+pub fn bump_filter(name: &str) -> Filter {
     let chosen = filter_choices().into_iter().find(|(n, _)| *n == name).and_then(|(_, f)| f);
     chosen.unwrap_or(Filter::Reconstruct(Kernel::Bilinear))
 }

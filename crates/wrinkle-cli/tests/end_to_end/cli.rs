@@ -554,6 +554,32 @@ fn filters_writes_a_labelled_sheet_and_a_table_of_errors() {
     assert_eq!(s.out_entries(), ["sheet.png"]);
 }
 
+/// `filters --bump`: the bump filters against the supersampled intensities; MIP filtering the table scores
+/// below the anisotropic filters on the grazing grooves, and the truth's noise floor is far above both.
+#[test]
+fn filters_compares_bump_filters_against_the_supersampled_intensities() {
+    let s = Scratch::new("filters_bump");
+    let out = s.out("sheet.png");
+    let args =
+        ["filters", "--bump", "-o", &out, "--width", "96", "--height", "72", "--filters", "none,mip,ewa", "--json"];
+    let run = wrinkle(&args);
+    assert_ok(&run);
+    assert_eq!(run.stdout.matches("\"filter\"").count(), 4, "{}", run.stdout);
+    let psnr = |name: &str| -> f64 {
+        let line = run.stdout.lines().find(|l| l.contains(&format!("\"{name}\""))).unwrap();
+        line.split("\"psnr_db\": ").nth(1).unwrap().trim_end_matches(['}', ',']).parse().unwrap()
+    };
+    assert!(psnr("ewa") > psnr("mip") + 1.0, "{}", run.stdout);
+    assert!(psnr("truth, seed 1") > 45.0 && psnr("truth, seed 1") > psnr("ewa") + 15.0, "{}", run.stdout);
+    let plain = Scratch::new("filters_bump_plain");
+    let scene = plain.write_input(
+        "plain.toml",
+        "[camera]\neye = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\n[[light]]\ntype = \"ambient\"\n[[object]]\nshape = \"sphere\"\n",
+    );
+    let run = wrinkle(&["filters", "--bump", &scene, "-o", &plain.out("sheet.png")]);
+    assert_one_error(&run, 2, &["no bump map"], &plain);
+}
+
 #[test]
 fn filters_rejects_unknown_names() {
     let s = Scratch::new("filters_bad");
