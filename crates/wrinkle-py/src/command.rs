@@ -9,7 +9,8 @@ use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use std::ffi::OsString;
 use std::path::PathBuf;
-use wrinkle::render::Aovs;
+use wrinkle::image::io::Placement;
+use wrinkle::render::Stats;
 use wrinkle::Frame;
 
 create_exception!(
@@ -58,19 +59,25 @@ fn write_frame(
         shape(name, a, &[Some(size.0), Some(size.1)])?;
         Ok(slice(name, a)?.to_vec())
     };
-    let mut frame = Frame::new(size.1, size.0, Aovs::default(), glam::Vec3::ZERO);
-    frame.color = pixels::<3>("color", &color, size)?;
-    frame.alpha = alpha.as_ref().map(|a| grey("alpha", a)).transpose()?;
-    frame.normal = normal.as_ref().map(|a| pixels::<3>("normal", a, size)).transpose()?;
-    frame.uv = uv.as_ref().map(|a| pixels::<2>("uv", a, size)).transpose()?;
-    frame.depth = depth.as_ref().map(|a| grey("depth", a)).transpose()?;
-    frame.id = id.as_ref().map(|a| grey("id", a)).transpose()?;
-    frame.primitive = match &primitive {
-        Some(a) => {
-            shape("primitive", a, &[Some(size.0), Some(size.1), Some(2)])?;
-            Some(slice("primitive", a)?.chunks_exact(2).map(|c| [c[0], c[1]]).collect())
-        }
-        None => None,
+    // Built from the arrays directly: Frame::new would fill a whole frame of background first.
+    let frame = Frame {
+        width: size.1,
+        height: size.0,
+        color: pixels::<3>("color", &color, size)?,
+        alpha: alpha.as_ref().map(|a| grey("alpha", a)).transpose()?,
+        normal: normal.as_ref().map(|a| pixels::<3>("normal", a, size)).transpose()?,
+        uv: uv.as_ref().map(|a| pixels::<2>("uv", a, size)).transpose()?,
+        depth: depth.as_ref().map(|a| grey("depth", a)).transpose()?,
+        id: id.as_ref().map(|a| grey("id", a)).transpose()?,
+        primitive: match &primitive {
+            Some(a) => {
+                shape("primitive", a, &[Some(size.0), Some(size.1), Some(2)])?;
+                Some(slice("primitive", a)?.chunks_exact(2).map(|c| [c[0], c[1]]).collect())
+            }
+            None => None,
+        },
+        placement: Placement::whole(size.1, size.0),
+        stats: Stats::default(),
     };
     py.detach(|| wrinkle_cli::write_frame(&path, &frame)).map_err(crate::errors::to_py)
 }

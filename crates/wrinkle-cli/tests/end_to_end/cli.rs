@@ -532,6 +532,12 @@ fn unparsable_arguments_are_one_line() {
 // ---------------------------------------------------------------------------------------------
 // Texture filters: filters, mipmap, bench-texture, --filter
 
+/// The PSNR of the row of `wrinkle filters --json` whose filter is `name`.
+fn json_psnr(stdout: &str, name: &str) -> f64 {
+    let line = stdout.lines().find(|l| l.contains(&format!("\"{name}\""))).unwrap();
+    line.split("\"psnr_db\": ").nth(1).unwrap().trim_end_matches(['}', ',']).parse().unwrap()
+}
+
 #[test]
 fn filters_writes_a_labelled_sheet_and_a_table_of_errors() {
     let s = Scratch::new("filters");
@@ -544,10 +550,7 @@ fn filters_writes_a_labelled_sheet_and_a_table_of_errors() {
     // The two filters, and the ground truth from other samples (another seed) against the ground truth.
     assert_eq!(run.stdout.matches("\"filter\"").count(), 3, "{}", run.stdout);
     // EWA is much closer to the ground truth than bilinear without MIP maps.
-    let psnr = |name: &str| -> f64 {
-        let line = run.stdout.lines().find(|l| l.contains(&format!("\"{name}\""))).unwrap();
-        line.split("\"psnr_db\": ").nth(1).unwrap().trim_end_matches(['}', ',']).parse().unwrap()
-    };
+    let psnr = |name: &str| json_psnr(&run.stdout, name);
     assert!(psnr("ewa") > psnr("bilinear") + 3.0, "{}", run.stdout);
     // The truth's noise floor lies far above the best filter's error.
     assert!(psnr("truth, seed 1") > 45.0 && psnr("truth, seed 1") > psnr("ewa") + 10.0, "{}", run.stdout);
@@ -565,10 +568,7 @@ fn filters_compares_bump_filters_against_the_supersampled_intensities() {
     let run = wrinkle(&args);
     assert_ok(&run);
     assert_eq!(run.stdout.matches("\"filter\"").count(), 4, "{}", run.stdout);
-    let psnr = |name: &str| -> f64 {
-        let line = run.stdout.lines().find(|l| l.contains(&format!("\"{name}\""))).unwrap();
-        line.split("\"psnr_db\": ").nth(1).unwrap().trim_end_matches(['}', ',']).parse().unwrap()
-    };
+    let psnr = |name: &str| json_psnr(&run.stdout, name);
     assert!(psnr("ewa") > psnr("mip") + 1.0, "{}", run.stdout);
     assert!(psnr("truth, seed 1") > 45.0 && psnr("truth, seed 1") > psnr("ewa") + 15.0, "{}", run.stdout);
     let plain = Scratch::new("filters_bump_plain");

@@ -238,12 +238,17 @@ pub struct SamplePattern {
 }
 
 impl SamplePattern {
-    /// The pattern of `spp` samples (1 to MAX_SPP) by `sampler`, spread over `filter`.
-    pub fn new(spp: usize, sampler: Sampler, filter: PixelFilter) -> Result<SamplePattern> {
+    /// Checks the sample count (1 to MAX_SPP) and the filter's parameters without building the tables.
+    pub fn check(spp: usize, filter: PixelFilter) -> Result<PixelFilter> {
         if !(1..=MAX_SPP).contains(&spp) {
             return Err(Error::parameter("spp", format!("must be between 1 and {MAX_SPP}, got {spp}")));
         }
-        let filter = filter.validated()?;
+        filter.validated()
+    }
+
+    /// The pattern of `spp` samples (1 to MAX_SPP) by `sampler`, spread over `filter`.
+    pub fn new(spp: usize, sampler: Sampler, filter: PixelFilter) -> Result<SamplePattern> {
+        let filter = SamplePattern::check(spp, filter)?;
         let warp = Warp::new(&filter);
         let reach = (filter.radius() - 0.5).max(0.0).ceil() as usize;
         let signs = match filter.has_negative_lobes() {

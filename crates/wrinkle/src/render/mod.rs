@@ -167,7 +167,8 @@ impl RenderOptions {
                 Limit::FramePixels.hint()
             )));
         }
-        self.sample_pattern()?;
+        // Checked alone: the pattern's tables are built once, by the render.
+        SamplePattern::check(self.spp, self.pixel_filter)?;
         if !self.turntable_degrees.is_finite() {
             return Err(Error::Invalid("turntable angle must be finite".into()));
         }
