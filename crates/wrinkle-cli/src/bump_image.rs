@@ -7,15 +7,14 @@ use glam::Vec3;
 use std::path::PathBuf;
 use std::sync::Arc;
 use wrinkle::bump::schlag::light_direction;
-use wrinkle::bump::{BumpFormula, BumpMap, BumpSource, BumpTable};
+use wrinkle::bump::{BumpMap, BumpSource, BumpTable};
 use wrinkle::geometry::{Shape, Surface, Transform};
 use wrinkle::image::io::{load_grey, load_rgba8};
 use wrinkle::light::{Light, ShadowSettings};
 use wrinkle::mapping::{MappedTexture, Mapping};
 use wrinkle::scene::{CameraDesc, Object, Projection};
 use wrinkle::shade::{Material, Phong};
-use wrinkle::texture::reconstruct::Kernel;
-use wrinkle::texture::{Filter, FilterOptions, FilteredTexture, TextureOptions};
+use wrinkle::texture::{FilteredTexture, TextureOptions};
 use wrinkle::{render, Error, RenderOptions, Result, Scene};
 
 /// Bump-map a grey height image with Blinn's perturbation, through the renderer (a flat patch seen head-on)
@@ -91,14 +90,8 @@ pub fn scene(args: &BumpArgs, table: BumpTable, texture: Option<FilteredTexture>
     if args.ambient > 0.0 {
         lights.push(Light::Ambient { radiance: Vec3::splat(args.ambient) });
     }
-    let bump = BumpMap {
-        source: BumpSource::Table(Arc::new(table)),
-        scale: args.scale,
-        mapping: Mapping::default(),
-        formula: BumpFormula::Blinn,
-        filter: FilterOptions { filter: Filter::Reconstruct(Kernel::Bilinear), ..FilterOptions::default() },
-        parallax: None,
-    };
+    // Blinn's bilinear FVAL on the full table, the surface's own (u,v).
+    let bump = BumpMap::new(BumpSource::Table(Arc::new(table)), args.scale)?;
     let mut material = Material {
         color: Vec3::ONE,
         phong: Phong::new(args.specular, args.shininess),

@@ -7,15 +7,15 @@
 //! each at its own exact (u,v) on the surface. Rendered again with another seed, the two estimates'
 //! agreement is printed as the truth's own noise floor.
 
-use crate::render::{bump_filter, load_scene};
+use crate::render::load_scene;
 use crate::sheet;
 use clap::Args;
 use glam::Vec2;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
-use wrinkle::bump::function::filter_choices;
 use wrinkle::bump::generators::{text as text_image, TextParams};
+use wrinkle::bump::{BumpFilter, SlopeFilter};
 use wrinkle::image::color::srgb_to_linear;
 use wrinkle::image::{io, Image};
 use wrinkle::mapping::{MappedTexture, Mapping, UvTransform};
@@ -63,8 +63,10 @@ const TRUTH_SPP: usize = 256;
 /// The filters of the sheet by default, in the order of the slides' ladder.
 const DEFAULT_FILTERS: [&str; 11] =
     ["nearest", "bilinear", "bicubic", "gaussian", "lanczos", "trilinear", "ripmap", "sat", "aniso", "ewa", "bspline"];
-/// The bump filters of the `--bump` sheet by default: Blinn's unfiltered table and the MIP-based filters.
-const DEFAULT_BUMP_FILTERS: [&str; 7] = ["none", "mip", "ripmap", "sat", "aniso", "ewa", "bspline"];
+/// The bump filters of the `--bump` sheet by default: Blinn's unfiltered table, the MIP-based filters, and
+/// the filters of the normals' distribution (Toksvig, LEAN through trilinear and through EWA).
+const DEFAULT_BUMP_FILTERS: [&str; 10] =
+    ["none", "mip", "ripmap", "sat", "aniso", "ewa", "bspline", "toksvig", "lean", "lean:ewa"];
 
 /// The classic view: a plane receding to the horizon and a sphere, lit softly so the textures dominate.
 /// The plane is laid as rows of patches that double in size with distance (the renderer tessellates a
@@ -169,11 +171,12 @@ enum Subject {
 }
 
 impl Subject {
-    /// The options that render `scene` with every texture (or bump) filtered by `filter`.
-    fn with_filter(self, scene: &mut Scene, options: &RenderOptions, filter: Filter) -> RenderOptions {
+    /// The options that render `scene` with every texture (or bump) filtered by `filter` (a colour texture
+    /// takes its texture filter).
+    fn with_filter(self, scene: &mut Scene, options: &RenderOptions, filter: BumpFilter) -> RenderOptions {
         match self {
             Subject::Textures => {
-                scene.set_texture_filter(filter);
+                scene.set_texture_filter(filter.texture);
                 options.clone()
             }
             Subject::Bumps => RenderOptions { bump_filter: Some(filter), ..options.clone() },
@@ -181,18 +184,17 @@ impl Subject {
     }
 
     /// The filter named `name`, as `--filters` (or `--bump-filter`, for bumps) reads it.
-    fn parse(self, name: &str) -> Result<Filter> {
+    fn parse(self, name: &str) -> Result<BumpFilter> {
         match self {
-            Subject::Textures => Filter::parse(name).ok_or_else(|| {
-                Error::Invalid(format!("--filters: unknown filter \"{name}\" (expected {})", Filter::names()))
-            }),
-            Subject::Bumps => match filter_choices().iter().any(|(n, _)| *n == name) {
-                true => Ok(bump_filter(name)),
-                false => Err(Error::Invalid(format!(
-                    "--filters: unknown bump filter \"{name}\" (expected none, mip, {})",
-                    Filter::names()
-                ))),
+            Subject::Textures => match Filter::parse(name) {
+                Some(texture) => Ok(BumpFilter { texture, slopes: SlopeFilter::Plain }),
+                None => {
+                    Err(Error::Invalid(format!("--filters: unknown filter \"{name}\" (expected {})", Filter::names())))
+                }
             },
+            Subject::Bumps => BumpFilter::parse(name).ok_or_else(|| {
+                Error::Invalid(format!("--filters: unknown bump filter \"{name}\" (expected {})", BumpFilter::names()))
+            }),
         }
     }
 }
@@ -251,7 +253,8 @@ pub fn run(args: &FiltersArgs) -> Result<()> {
     bar.set_message("ground truth");
     // Each sample reads the bilinear texture (or bump table, full resolution) at its own (u,v): the samples
     // integrate the colour over the preimage.
-    let exact = subject.with_filter(&mut scene, &options, Filter::Reconstruct(Kernel::Bilinear));
+    let bilinear = BumpFilter { texture: Filter::Reconstruct(Kernel::Bilinear), slopes: SlopeFilter::Plain };
+    let exact = subject.with_filter(&mut scene, &options, bilinear);
     let truth_of = |seed: u32| {
         let truth = RenderOptions { spp: TRUTH_SPP, sampler: Sampler::Sobol, seed, ..exact.clone() };
         let t = Instant::now();

@@ -5,10 +5,9 @@ use crate::progress::Progress;
 use clap::builder::PossibleValuesParser;
 use clap::Args;
 use std::path::{Path, PathBuf};
-use wrinkle::bump::function::filter_choices;
+use wrinkle::bump::BumpFilter;
 use wrinkle::image::output::OutputSet;
 use wrinkle::render::{Aovs, Transparency};
-use wrinkle::texture::reconstruct::Kernel;
 use wrinkle::texture::Filter;
 use wrinkle::{render_with_progress, Crop, Error, PixelFilter, RenderOptions, Result, Sampler, Scene};
 
@@ -87,9 +86,10 @@ pub struct FrameArgs {
     #[arg(long)]
     pub no_bump: bool,
     /// Filter every bump function: none (the full-resolution table, bilinear), mip (MIP level from the pixel
-    /// footprint: trilinear), or any texture filter (nearest, trilinear, ripmap, sat, aniso, ewa, ...).
-    #[arg(long, value_parser = PossibleValuesParser::new(filter_choices().into_iter().map(|(n, _)| n)))]
-    pub bump_filter: Option<String>,
+    /// footprint: trilinear), any texture filter (nearest, trilinear, ripmap, sat, aniso, ewa, ...), or
+    /// filter the distribution of the normals: lean (LEAN mapping), toksvig, lean:FILTER, toksvig:FILTER.
+    #[arg(long, value_parser = parse_bump_filter)]
+    pub bump_filter: Option<BumpFilter>,
     /// Filter every colour texture with this filter instead of the scene's: nearest, bilinear, bicubic,
     /// gaussian, lanczos (magnification only), trilinear, ripmap, sat, aniso, ewa, ...
     #[arg(long, value_parser = PossibleValuesParser::new(Filter::ALL.map(|(n, _)| n)))]
@@ -122,7 +122,7 @@ impl FrameArgs {
             pixel_filter: PixelFilter::parse(&self.pixel_filter)?,
             seed: self.seed,
             bump: !self.no_bump,
-            bump_filter: self.bump_filter.as_deref().map(bump_filter),
+            bump_filter: self.bump_filter,
             transparency: match self.transparency.as_str() {
                 "exact" => Transparency::Exact,
                 _ => Transparency::Sorted,
@@ -356,7 +356,6 @@ fn parse_crop(text: &str) -> Result<Crop> {
 }
 
 /// A `--bump-filter` name as a filter: `none` is Blinn's bilinear FVAL on the full-resolution table.
-pub fn bump_filter(name: &str) -> Filter {
-    let chosen = filter_choices().into_iter().find(|(n, _)| *n == name).and_then(|(_, f)| f);
-    chosen.unwrap_or(Filter::Reconstruct(Kernel::Bilinear))
+fn parse_bump_filter(name: &str) -> std::result::Result<BumpFilter, String> {
+    BumpFilter::parse(name).ok_or_else(|| format!("expected one of {}", BumpFilter::names()))
 }

@@ -9,8 +9,8 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::mpsc;
 use std::time::Duration;
+use wrinkle::bump::BumpFilter;
 use wrinkle::render::{Aovs, Transparency};
-use wrinkle::texture::Filter;
 use wrinkle::{Crop, PixelFilter, RenderOptions, Sampler};
 
 /// How often a render in progress looks up from its work: for Ctrl-C, and to report progress.
@@ -124,8 +124,8 @@ impl Scene {
             bump,
             bump_filter: bump_filter
                 .map(|f| {
-                    Filter::parse(f).ok_or_else(|| {
-                        invalid(format!("bump_filter: expected one of {}, got \"{f}\"", Filter::names()))
+                    BumpFilter::parse(f).ok_or_else(|| {
+                        invalid(format!("bump_filter: expected one of {}, got \"{f}\"", BumpFilter::names()))
                     })
                 })
                 .transpose()?,

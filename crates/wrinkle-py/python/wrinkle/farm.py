@@ -375,7 +375,7 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--aov", default="", help="comma-separated: normal, uv, depth, id, primitive")
     r.add_argument("--background", default="scene", choices=["scene", "transparent"])
     r.add_argument("--no-bump", action="store_true", help="render without bump mapping")
-    r.add_argument("--bump-filter", help="filter every bump function: none, mip or a texture filter")
+    r.add_argument("--bump-filter", help="filter every bump function: none, mip, a texture filter, lean, toksvig, lean:FILTER or toksvig:FILTER")
     r.add_argument("--transparency", default="sorted", choices=["sorted", "exact"])
 
     i = sub.add_parser(
@@ -406,7 +406,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                 width=args.width, height=args.height, spp=args.spp, sampler=args.sampler,
                 pixel_filter=args.pixel_filter, aov=tuple(a for a in args.aov.split(",") if a),
                 # As `wrinkle render`: none is the full-resolution table read bilinearly, mip trilinear.
-                bump=not args.no_bump, bump_filter={"none": "bilinear", "mip": "trilinear"}.get(args.bump_filter, args.bump_filter),
+                bump=not args.no_bump, bump_filter=args.bump_filter,
                 transparent=args.background == "transparent", transparency=args.transparency,
             )
         else:

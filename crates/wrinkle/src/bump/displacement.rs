@@ -88,19 +88,13 @@ impl Displacement {
 mod tests {
     use super::*;
     use crate::bump::{BumpFormula, BumpSource, BumpTable};
-    use crate::mapping::Mapping;
-    use crate::texture::FilterOptions;
     use std::sync::Arc;
 
     fn silhouette(threshold: Option<f32>) -> Displacement {
         let table = BumpTable::new(&crate::image::GreyImage::new(2, 2, 0.0));
         let map = BumpMap {
-            source: BumpSource::Table(Arc::new(table)),
-            scale: 1.0,
-            mapping: Mapping::default(),
             formula: BumpFormula::Full,
-            filter: FilterOptions::default(),
-            parallax: None,
+            ..BumpMap::new(BumpSource::Table(Arc::new(table)), 1.0).unwrap()
         };
         Displacement { map, mode: DisplacementMode::Silhouette { threshold }, edge_px: 1.0 }
     }

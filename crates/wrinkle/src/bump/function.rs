@@ -5,6 +5,7 @@
 //! The table is read at the mapped coordinates (s,t); the chain rule through the mapping gives the
 //! derivatives along the surface: Fu = Fs ds/du + Ft dt/du, Fv alike.
 
+use super::lean::{SlopeFilter, SlopeMoments, Spread};
 use super::table::BumpTable;
 use super::{BumpFormula, Gradient};
 use crate::error::{Error, Result};
@@ -12,9 +13,9 @@ use crate::lanes::F8;
 use crate::mapping::Mapping;
 use crate::procedural::solid::{Procedural, Space};
 use crate::texture::reconstruct::Kernel;
-use crate::texture::{Filter, FilterOptions, FilteredTexture, LookupContext, LookupContext8};
-use glam::{Vec2, Vec3};
-use std::sync::Arc;
+use crate::texture::{Filter, FilterOptions, FilteredTexture, Footprint, LookupContext, LookupContext8};
+use glam::{Vec2, Vec3, Vec4};
+use std::sync::{Arc, OnceLock};
 
 /// Where F comes from.
 pub enum BumpSource {
@@ -25,7 +26,28 @@ pub enum BumpSource {
     /// An offset vector map (the slides' "offset vector" map, in tangent space): Bs and Bt, F's slopes along
     /// the texture's s and t per period, stored in R and G as (b + 1) / 2 (green up the picture) and filtered
     /// like a colour texture: Fs = scale * Bs, Ft = scale * Bt. F itself is not stored (it reads 0).
-    Offsets(Arc<FilteredTexture>),
+    Offsets(Arc<OffsetMap>),
+}
+
+/// An offset vector map and, built on first use by LEAN or Toksvig filtering, its slopes' moments.
+pub struct OffsetMap {
+    pub texture: FilteredTexture,
+    moments: OnceLock<SlopeMoments>,
+}
+
+impl OffsetMap {
+    pub fn new(texture: FilteredTexture) -> OffsetMap {
+        OffsetMap { texture, moments: OnceLock::new() }
+    }
+
+    /// The slopes (Bs, Bt) of one texel.
+    fn slopes(c: Vec4) -> Vec2 {
+        Vec2::new(2.0 * c.x - 1.0, 2.0 * c.y - 1.0)
+    }
+
+    fn moments(&self) -> &SlopeMoments {
+        self.moments.get_or_init(|| SlopeMoments::of_texture(&self.texture, OffsetMap::slopes))
+    }
 }
 
 /// A bump function on a surface: F = scale * (the source at the mapped coordinates, or at the point).
@@ -37,16 +59,11 @@ pub struct BumpMap {
     /// How a table is filtered against aliasing (Blinn section 5): any texture filter; `nearest` and
     /// `bilinear` are Blinn's two FVALs on the full-resolution table.
     pub filter: FilterOptions,
+    /// What the filter does about the spread of the normals under a pixel (LEAN, Toksvig).
+    pub slopes: SlopeFilter,
     /// Parallax occlusion mapping: every lookup of the material reads where the view ray meets the height
     /// field carved into the surface.
     pub parallax: Option<super::Parallax>,
-}
-
-/// Every bump filter by name: `none` (`None`: the full-resolution table, read as the bump says), `mip`
-/// (Blinn's MIP-mapped table, the same as `trilinear`), then every texture filter.
-pub fn filter_choices() -> Vec<(&'static str, Option<Filter>)> {
-    let texture = Filter::ALL.iter().map(|&(n, f)| (n, Some(f)));
-    [("none", None), ("mip", Some(Filter::Trilinear))].into_iter().chain(texture).collect()
 }
 
 impl BumpMap {
@@ -62,6 +79,7 @@ impl BumpMap {
             mapping: Mapping::default(),
             formula: BumpFormula::Blinn,
             filter: FilterOptions { filter: Filter::Reconstruct(Kernel::Bilinear), ..FilterOptions::default() },
+            slopes: SlopeFilter::Plain,
             parallax: None,
         })
     }
@@ -84,8 +102,7 @@ impl BumpMap {
         };
         let (mapped, jacobian) = self.mapping.apply_with_jacobian(ctx);
         let g = table.lookup(mapped.uv.x, mapped.uv.y, &mapped.footprint, filter);
-        let [ku, kv] = self.chain(jacobian);
-        Gradient { f: self.scale * g.f, fu: g.fu * ku.x + g.fv * ku.y, fv: g.fu * kv.x + g.fv * kv.y }
+        self.chained(g, Spread::default(), jacobian).0
     }
 
     /// F, Fu, Fv on eight lanes: a table through the surface's (u,v) on the lanes, anything else lane by
@@ -101,6 +118,85 @@ impl BumpMap {
         let [ku, kv] = self.chain(jacobian);
         let k = F8::splat;
         [k(self.scale) * f, fs * k(ku.x) + ft * k(ku.y), fs * k(kv.x) + ft * k(kv.y)]
+    }
+
+    /// The mean F, Fu, Fv at one sample under `filter` and the covariance of (Fu, Fv) there (LEAN's): the
+    /// moments of a table's or an offset map's slopes, filtered, carried to u and v through the chain rule;
+    /// a procedural bump's from the unfiltered gradient at four points of the pixel.
+    #[inline]
+    pub fn eval_spread(&self, ctx: &LookupContext, filter: &FilterOptions) -> (Gradient, Spread) {
+        let (mapped, jacobian) = self.mapping.apply_with_jacobian(ctx);
+        let (s, t, fp) = (mapped.uv.x, mapped.uv.y, &mapped.footprint);
+        let (g, spread) = match &self.source {
+            BumpSource::Table(table) => table.lookup_spread(s, t, fp, filter),
+            BumpSource::Offsets(map) => {
+                let (_, spread) = map.moments().lookup(s, t, fp, filter);
+                (self.offsets_raw(map, &mapped, filter), spread)
+            }
+            BumpSource::Procedural(p) => {
+                let mean = self.procedural(p, ctx);
+                return (mean, self.procedural_spread(p, ctx, mean));
+            }
+        };
+        self.chained(g, spread, jacobian)
+    }
+
+    /// Table-space (F, Fs, Ft) and their covariance carried to the surface: F scaled, the slopes and their
+    /// covariance through the chain rule's rows.
+    #[inline]
+    fn chained(&self, g: Gradient, spread: Spread, jacobian: [Vec2; 2]) -> (Gradient, Spread) {
+        let [ku, kv] = self.chain(jacobian);
+        let rows = [Vec2::new(ku.x, ku.y), Vec2::new(kv.x, kv.y)];
+        let gradient = Gradient { f: self.scale * g.f, fu: g.fu * ku.x + g.fv * ku.y, fv: g.fu * kv.x + g.fv * kv.y };
+        (gradient, spread.through(rows))
+    }
+
+    /// The covariance of a procedural bump's (Fu, Fv) over the pixel: E[g g^T] from the gradient at the
+    /// pixel's four quarters (each band-limited to its quarter), less the filtered mean's square (the band
+    /// limiting keeps the mean; the octaves it drops are what spreads the normals).
+    fn procedural_spread(&self, p: &Procedural, ctx: &LookupContext, mean: Gradient) -> Spread {
+        let mut second = [0.0f32; 3];
+        let fp = &ctx.footprint;
+        let half =
+            Footprint { dudx: 0.125 * fp.dudx, dvdx: 0.125 * fp.dvdx, dudy: 0.125 * fp.dudy, dvdy: 0.125 * fp.dvdy };
+        for (a, b) in [(-0.25, -0.25), (0.25, -0.25), (-0.25, 0.25), (0.25, 0.25)] {
+            let at = LookupContext {
+                p: ctx.p + a * ctx.dpdx + b * ctx.dpdy,
+                uv: ctx.uv + Vec2::new(a * fp.dudx + b * fp.dudy, a * fp.dvdx + b * fp.dvdy),
+                dpdx: 0.125 * ctx.dpdx,
+                dpdy: 0.125 * ctx.dpdy,
+                footprint: half,
+                ..*ctx
+            };
+            let g = self.procedural(p, &at);
+            second = [second[0] + g.fu * g.fu, second[1] + g.fv * g.fv, second[2] + g.fu * g.fv];
+        }
+        let [xx, yy, xy] = second.map(|m| 0.25 * m);
+        Spread {
+            xx: (xx - mean.fu * mean.fu).max(0.0),
+            yy: (yy - mean.fv * mean.fv).max(0.0),
+            xy: xy - mean.fu * mean.fv,
+        }
+    }
+
+    /// `eval_spread` on eight lanes: (F, Fu, Fv) and (var Fu, var Fv, cov); a table's mapping on the lanes
+    /// and its lookups lane by lane.
+    #[inline]
+    pub fn eval_spread8(&self, ctx: &LookupContext8<'_>, filter: &FilterOptions) -> ([F8; 3], [F8; 3]) {
+        let lanes: [(Gradient, Spread); 8] = match (&self.source, self.mapping.constant_jacobian()) {
+            (BumpSource::Table(table), Some(jacobian)) => {
+                let (mapped, _) = self.mapping.apply8(ctx);
+                let (s, t) = (mapped.u.as_array_ref(), mapped.v.as_array_ref());
+                std::array::from_fn(|i| {
+                    let (g, spread) = table.lookup_spread(s[i], t[i], &mapped.footprint.lane(i), filter);
+                    self.chained(g, spread, jacobian)
+                })
+            }
+            _ => std::array::from_fn(|i| self.eval_spread(&ctx.lane(i), filter)),
+        };
+        let g = |k: fn(&Gradient) -> f32| F8::new(lanes.map(|(g, _)| k(&g)));
+        let c = |k: fn(&Spread) -> f32| F8::new(lanes.map(|(_, c)| k(&c)));
+        ([g(|g| g.f), g(|g| g.fu), g(|g| g.fv)], [c(|c| c.xx), c(|c| c.yy), c(|c| c.xy)])
     }
 
     /// F alone on eight lanes (a parallax march's reads): a table through the surface's (u,v) on the lanes
@@ -126,16 +222,21 @@ impl BumpMap {
     }
 
     /// An offset vector map's slopes along s and t, carried to u and v through the mapping's Jacobian.
-    fn offsets(&self, map: &FilteredTexture, ctx: &LookupContext, filter: &FilterOptions) -> Gradient {
+    fn offsets(&self, map: &OffsetMap, ctx: &LookupContext, filter: &FilterOptions) -> Gradient {
         let (mapped, jacobian) = self.mapping.apply_with_jacobian(ctx);
+        self.chained(self.offsets_raw(map, &mapped, filter), Spread::default(), jacobian).0
+    }
+
+    /// An offset vector map's slopes along s and t at the mapped context.
+    fn offsets_raw(&self, map: &OffsetMap, mapped: &LookupContext, filter: &FilterOptions) -> Gradient {
         let (s, t, fp) = (mapped.uv.x, mapped.uv.y, &mapped.footprint);
-        let c = match map.options().filter == *filter {
-            true => map.lookup(s, t, fp),
-            false => map.with_options(*filter).lookup(s, t, fp),
+        let texture = &map.texture;
+        let c = match texture.options().filter == *filter {
+            true => texture.lookup(s, t, fp),
+            false => texture.with_options(*filter).lookup(s, t, fp),
         };
-        let (bs, bt) = (2.0 * c.x - 1.0, 2.0 * c.y - 1.0);
-        let [ku, kv] = self.chain(jacobian);
-        Gradient { f: 0.0, fu: bs * ku.x + bt * ku.y, fv: bs * kv.x + bt * kv.y }
+        let b = OffsetMap::slopes(c);
+        Gradient { f: 0.0, fu: b.x, fv: b.y }
     }
 
     /// A procedural bump: in object space by the chain rule through the surface, Fu = grad t . Pu; in uv
@@ -163,7 +264,6 @@ mod tests {
     use super::*;
     use crate::geometry::Surface;
     use crate::procedural::effects::{Kind, Params, Pattern};
-    use crate::texture::Footprint;
 
     fn at(surface: &Surface, u: f32, v: f32) -> LookupContext {
         let f = surface.frame(u, v);
@@ -180,6 +280,7 @@ mod tests {
             mapping: Mapping::default(),
             formula: BumpFormula::Blinn,
             filter: FilterOptions::default(),
+            slopes: SlopeFilter::Plain,
             parallax: None,
         };
         let torus = Surface::Torus { major_radius: 1.0, minor_radius: 0.3 };

@@ -6,6 +6,7 @@ pub mod displacement;
 pub mod function;
 pub mod generators;
 pub mod integrate;
+pub mod lean;
 pub mod normal_map;
 pub mod parallax;
 pub mod schlag;
@@ -14,7 +15,8 @@ pub mod tangent_space;
 
 pub use blinn::BumpFormula;
 pub use displacement::{Displacement, DisplacementMode};
-pub use function::{BumpMap, BumpSource};
+pub use function::{BumpMap, BumpSource, OffsetMap};
+pub use lean::{BumpFilter, SlopeFilter};
 pub use parallax::{Crossing8, Parallax};
 pub use table::{BumpTable, Interp};
 pub use tangent_space::TangentNormalMap;

@@ -13,6 +13,7 @@
 //! convention). Blinn's FORTRAN bilinear FVAL puts table entries at the cell corners i/W instead: the same
 //! function shifted by half a step, which we do not copy so that nearest and bilinear agree at texel centres.
 
+use super::lean::{SlopeMoments, Spread};
 use super::Gradient;
 use crate::image::GreyImage;
 use crate::lanes::{gather, CmpEq, CmpGe, CmpGt, F8, I8, LANES};
@@ -22,6 +23,7 @@ use crate::texture::reconstruct::Kernel;
 use crate::texture::texel::{Plane, TexelSource};
 use crate::texture::{bilinear_taps, wrap01, Footprint, Footprint8, Wrap};
 use glam::Vec3;
+use std::sync::{Arc, OnceLock};
 
 /// How F is read from the table between texel centres.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -36,7 +38,7 @@ pub enum Interp {
 /// filters it reads (T, dT/ds, dT/dt) per texel, the derivatives by central differences on the fly, so
 /// every texture filter filters the bump function and its derivatives alike.
 #[derive(Clone, Debug)]
-pub struct Gradients(Plane<f32>);
+pub struct Gradients(Arc<Plane<f32>>);
 
 /// A periodic bump table with its MIP pyramid (and, on first use by those filters, its ripmap and
 /// summed-area table).
@@ -44,14 +46,16 @@ pub struct BumpTable {
     data: Filterable<Gradients>,
     /// The largest |T| of the table (what a displacement by it can reach).
     largest: f32,
+    /// The slopes' moments for LEAN and Toksvig filtering, built on first use.
+    moments: OnceLock<SlopeMoments>,
 }
 
 impl BumpTable {
     /// The table from a grey image (row 0 at the top, as images are stored).
     pub fn new(image: &GreyImage) -> Self {
-        let base = Gradients(Plane::from_top_rows(image.width, image.height, &image.pixels));
+        let base = Gradients(Arc::new(Plane::from_top_rows(image.width, image.height, &image.pixels)));
         let largest = image.pixels.iter().fold(0.0f32, |m, t| m.max(t.abs()));
-        BumpTable { data: Filterable::new(base, MipFilter::Box, [Wrap::Repeat; 2]), largest }
+        BumpTable { data: Filterable::new(base, MipFilter::Box, [Wrap::Repeat; 2]), largest, moments: OnceLock::new() }
     }
 
     /// The largest |T| in the table.
@@ -150,6 +154,17 @@ impl BumpTable {
         }
     }
 
+    /// The pyramid of the slopes' first and second moments (LEAN mapping), built on first use.
+    pub fn moments(&self) -> &SlopeMoments {
+        self.moments.get_or_init(|| SlopeMoments::of_table(self.data.levels()[0].clone()))
+    }
+
+    /// The mean F, Fs, Ft at (s,t) through the filter of `opts` and the covariance of (Fs, Ft) under it.
+    #[inline]
+    pub fn lookup_spread(&self, s: f32, t: f32, fp: &Footprint, opts: &FilterOptions) -> (Gradient, Spread) {
+        self.moments().lookup(s, t, fp, opts)
+    }
+
     /// F, Fs, Ft at (s,t) through any texture filter, `fp` the footprint in (s,t) units.
     #[inline]
     pub fn filtered(&self, s: f32, t: f32, fp: &Footprint, opts: &FilterOptions) -> Gradient {
@@ -179,11 +194,30 @@ impl TexelSource for Gradients {
             (self.at(i, jn) - self.at(i, jp)) * (h as f32 * 0.5),
         )
     }
+
+    /// The four texels of a bilinear footprint from the twelve table entries their differences read (each
+    /// texel as `texel` computes it).
+    #[inline]
+    fn quad(&self, i: [usize; 2], j: [usize; 2]) -> [Vec3; 4] {
+        let (w, h) = (self.0.width, self.0.height);
+        let prev = |k: usize, n: usize| if k == 0 { n - 1 } else { k - 1 };
+        let next = |k: usize, n: usize| if k + 1 == n { 0 } else { k + 1 };
+        let (hw, hh) = (w as f32 * 0.5, h as f32 * 0.5);
+        let row = |r: usize| &self.0.texels[r * w..(r + 1) * w];
+        let (r0, r1) = (row(j[0]), row(j[1]));
+        // The rows beyond each tap row: below j0 and above j1, or the other tap row where they are adjacent.
+        let one = |ii: usize, r: &[f32], below: &[f32], above: &[f32]| {
+            Vec3::new(r[ii], (r[next(ii, w)] - r[prev(ii, w)]) * hw, (above[ii] - below[ii]) * hh)
+        };
+        let (b0, a0) = (row(prev(j[0], h)), row(next(j[0], h)));
+        let (b1, a1) = (row(prev(j[1], h)), row(next(j[1], h)));
+        [one(i[0], r0, b0, a0), one(i[1], r0, b0, a0), one(i[0], r1, b1, a1), one(i[1], r1, b1, a1)]
+    }
 }
 
 impl Resample for Gradients {
     fn downsample(&self, nw: usize, nh: usize, filter: MipFilter, wrap: [Wrap; 2]) -> Self {
-        Gradients(self.0.downsample(nw, nh, filter, wrap))
+        Gradients(Arc::new(self.0.downsample(nw, nh, filter, wrap)))
     }
 }
 

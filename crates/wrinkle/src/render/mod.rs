@@ -10,6 +10,7 @@ mod views;
 pub use frame::{Aovs, Frame, Stats, NO_PRIMITIVE};
 pub use transparent::Transparency;
 
+use crate::bump::BumpFilter;
 use crate::envmap::Environment;
 use crate::geometry::billboard::Viewer;
 use crate::geometry::frame_lanes::Frame8;
@@ -29,7 +30,7 @@ use crate::raster::visibility::EMPTY;
 use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
 use crate::scene::{CameraDesc, Scene};
 use crate::shade::{AlphaMode, Ibl, MappingNeeds, ShadeContext, ShadedSample, SurfaceSamples8};
-use crate::texture::{Filter, Footprint8};
+use crate::texture::Footprint8;
 use crate::{Error, Result};
 use glam::{Affine3A, Quat, Vec2, Vec3};
 use rayon::prelude::*;
@@ -60,7 +61,7 @@ pub struct RenderOptions {
     pub seed: u32,
     pub bump: bool,
     /// Replaces every material's bump filter when set.
-    pub bump_filter: Option<Filter>,
+    pub bump_filter: Option<BumpFilter>,
     /// Rotation of every object about the vertical axis through the camera's target, degrees (turntables).
     pub turntable_degrees: f32,
     /// Which per-pixel AOVs to keep.

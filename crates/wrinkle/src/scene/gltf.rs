@@ -384,15 +384,11 @@ fn material(m: &gltf::Material, textures: &mut Textures) -> std::result::Result<
             .ok_or("KHR_materials_emissive_strength has a malformed emissiveStrength")? as f32,
     };
     let normal_map = match m.normal_texture() {
-        Some(n) => Some(TangentNormalMap {
-            texture: {
-                let transform =
-                    n.extension_value("KHR_texture_transform").map(TextureTransform::of_json).transpose()?;
-                textures.get(n.texture(), n.tex_coord(), transform, false)?.mapped
-            },
-            strength: n.scale(),
-            convention: Convention::OpenGl,
-        }),
+        Some(n) => {
+            let transform = n.extension_value("KHR_texture_transform").map(TextureTransform::of_json).transpose()?;
+            let texture = textures.get(n.texture(), n.tex_coord(), transform, false)?.mapped;
+            Some(TangentNormalMap::new(texture, n.scale(), Convention::OpenGl))
+        }
         None => None,
     };
     let alpha_mode = match m.alpha_mode() {

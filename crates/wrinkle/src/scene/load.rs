@@ -8,9 +8,11 @@ use super::mapping::{parse_mapping, uv_list};
 use super::procedural;
 use super::texture::{load_texture, parse_normal_map, parse_texture, Role};
 use super::{Animation, CameraDesc, Object, Scene};
-use crate::bump::function::filter_choices;
 use crate::bump::generators::{BrickParams, Generator, GridParams, RivetParams, TextParams};
-use crate::bump::{BumpFormula, BumpMap, BumpSource, BumpTable, Displacement, DisplacementMode, Parallax};
+use crate::bump::{
+    BumpFilter, BumpFormula, BumpMap, BumpSource, BumpTable, Displacement, DisplacementMode, OffsetMap, Parallax,
+    SlopeFilter,
+};
 use crate::geometry::billboard::{Align, Billboard};
 use crate::geometry::{MeshPart, Shape, Surface, Transform};
 use crate::image::io;
@@ -556,9 +558,18 @@ fn parse_bump(path: &str, v: &Value, base: &Path) -> Result<BumpMap> {
         Source::Image(image) => BumpSource::Table(Arc::new(BumpTable::new(&image))),
         Source::Procedural(p) => {
             let pattern = procedural::parse_bump(&f.at("procedural"), p)?;
-            // A pattern has its gradient, not a table to read or filter; a solid one no (u,v) to place.
-            if let Some(key) = ["interp", "filter"].into_iter().find(|k| f.get(k).is_some()) {
-                return Err(Error::scene(f.at(key), "applies to bump tables (map or generator) only"));
+            // A pattern has its gradient, not a table to read or filter (only the spread of its normals:
+            // filter = "lean" or "toksvig"); a solid one no (u,v) to place.
+            if f.get("interp").is_some() {
+                return Err(Error::scene(f.at("interp"), "applies to bump tables (map or generator) only"));
+            }
+            if let Some(name) = f.string("filter")?.filter(|n| !["lean", "toksvig"].contains(n)) {
+                return Err(Error::scene(
+                    f.at("filter"),
+                    format!(
+                        "a procedural bump filters its own octaves: only \"lean\" or \"toksvig\" apply, got \"{name}\""
+                    ),
+                ));
             }
             let placed = ["repeat", "offset", "rotate", "mapping"];
             if let Some(key) = placed.into_iter().find(|k| pattern.space == Space::Object && f.get(k).is_some()) {
@@ -570,9 +581,9 @@ fn parse_bump(path: &str, v: &Value, base: &Path) -> Result<BumpMap> {
             if formula == BumpFormula::Full {
                 return Err(Error::scene(f.at("formula"), "an offset map stores Fu and Fv, not F: use \"blinn\""));
             }
-            let filter = FilterOptions { filter: bump_filter(&f)?, ..FilterOptions::default() };
+            let filter = FilterOptions { filter: bump_filter(&f)?.texture, ..FilterOptions::default() };
             let (texture, _) = load_texture(&file, false, TextureOptions { filter, ..TextureOptions::default() })?;
-            BumpSource::Offsets(Arc::new(texture))
+            BumpSource::Offsets(Arc::new(OffsetMap::new(texture)))
         }
     };
     let parallax = match f.get("parallax") {
@@ -584,10 +595,12 @@ fn parse_bump(path: &str, v: &Value, base: &Path) -> Result<BumpMap> {
         }
         None => None,
     };
+    let chosen = bump_filter(&f)?;
     Ok(BumpMap {
         mapping: parse_mapping(&f.at("mapping"), f.get("mapping"), uv_transform(&f)?)?,
         formula,
-        filter: FilterOptions { filter: bump_filter(&f)?, ..FilterOptions::default() },
+        filter: FilterOptions { filter: chosen.texture, ..FilterOptions::default() },
+        slopes: chosen.slopes,
         parallax,
         ..BumpMap::new(source, f.number_or("scale", 0.05)?).map_err(|e| f.named(e))?
     })
@@ -635,16 +648,21 @@ fn parse_parallax(path: &str, v: &Value) -> Result<Parallax> {
     Ok(Parallax { steps, depth_replace: f.boolean("depth_replace", false)? })
 }
 
-/// A bump table's filter: `filter` names any texture filter, or `"none"` (the full-resolution table read
-/// as `interp` says: Blinn's nearest or bilinear FVAL) or `"mip"` (another name of `"trilinear"`, Blinn's
-/// MIP-mapped table of section 5). `interp` belongs to `"none"` alone: every MIP filter reads its levels
-/// bilinearly.
-fn bump_filter(f: &Fields) -> Result<Filter> {
+/// A bump table's filter: `filter` names any bump filter (`BumpFilter::parse`): `"none"` (the
+/// full-resolution table read as `interp` says: Blinn's nearest or bilinear FVAL), `"mip"` (another name of
+/// `"trilinear"`, Blinn's MIP-mapped table of section 5), a texture filter, or LEAN and Toksvig filtering
+/// of the normals. `interp` belongs to `"none"` alone: every MIP filter reads its levels bilinearly.
+fn bump_filter(f: &Fields) -> Result<BumpFilter> {
     let kernels = [("nearest", Kernel::Nearest), ("bilinear", Kernel::Bilinear)];
-    match (f.choice("filter", None, &filter_choices())?, f.get("interp")) {
-        (None, _) => Ok(Filter::Reconstruct(f.choice("interp", Kernel::Bilinear, &kernels)?)),
+    match (f.string("filter")?, f.get("interp")) {
+        (None | Some("none"), _) => Ok(BumpFilter {
+            texture: Filter::Reconstruct(f.choice("interp", Kernel::Bilinear, &kernels)?),
+            slopes: SlopeFilter::Plain,
+        }),
         (Some(_), Some(_)) => Err(Error::scene(f.at("interp"), "applies to filter = \"none\" only")),
-        (Some(filter), None) => Ok(filter),
+        (Some(name), None) => BumpFilter::parse(name).ok_or_else(|| {
+            Error::scene(f.at("filter"), format!("expected one of {}, got \"{name}\"", BumpFilter::names()))
+        }),
     }
 }
 

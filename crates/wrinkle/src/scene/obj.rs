@@ -7,7 +7,7 @@
 use super::model::ModelPart;
 use super::texture::load_texture;
 use crate::bump::normal_map::Convention;
-use crate::bump::{BumpFormula, BumpMap, BumpSource, BumpTable, TangentNormalMap};
+use crate::bump::{BumpFormula, BumpMap, BumpSource, BumpTable, SlopeFilter, TangentNormalMap};
 use crate::geometry::TriangleMesh;
 use crate::image::io;
 use crate::mapping::{MappedTexture, Mapping, UvTransform};
@@ -140,13 +140,13 @@ impl ObjMaterial {
                 mapping: Mapping::uv(*transform),
                 formula: BumpFormula::Blinn,
                 filter: FilterOptions { filter: Filter::Trilinear, ..FilterOptions::default() },
+                slopes: SlopeFilter::Plain,
                 parallax: None,
             }),
-            normal_map: self.normal_map.as_ref().map(|texture| TangentNormalMap {
-                texture: texture.clone(),
-                strength: 1.0,
-                convention: Convention::OpenGl,
-            }),
+            normal_map: self
+                .normal_map
+                .as_ref()
+                .map(|texture| TangentNormalMap::new(texture.clone(), 1.0, Convention::OpenGl)),
             ..Material::default()
         }
     }

@@ -6,7 +6,7 @@ use super::fields::{describe, numbers, Fields};
 use super::load::{resolve, uv_transform};
 use super::mapping::parse_mapping;
 use crate::bump::normal_map::Convention;
-use crate::bump::TangentNormalMap;
+use crate::bump::{BumpFilter, SlopeFilter, TangentNormalMap};
 use crate::image::color::decode_rgba8;
 use crate::image::{indexed, io};
 use crate::limits;
@@ -64,6 +64,17 @@ pub fn parse_texture(path: &str, v: &Value, material: &Fields, base: &Path, role
 /// A tangent-space normal map: a data texture with `strength` (default 1, glTF's scale) and `convention`
 /// (`"opengl"`, the default: green up the picture, or `"directx"`).
 pub fn parse_normal_map(path: &str, v: &Value, material: &Fields, base: &Path) -> Result<TangentNormalMap> {
+    // `filter = "lean"` (or "toksvig", "lean:FILTER", ...): the texture filter, and the normals' spread.
+    let mut v = v.clone();
+    let mut slopes = SlopeFilter::Plain;
+    if let Some(Value::String(name)) = v.get("filter").cloned() {
+        if let Some(chosen) = BumpFilter::parse(&name).filter(|c| c.slopes != SlopeFilter::Plain) {
+            slopes = chosen.slopes;
+            let table = v.as_table_mut().expect("a table has a filter field");
+            table.insert("filter".into(), Value::String(chosen.texture.name().to_string()));
+        }
+    }
+    let v = &v;
     let texture = parse_texture_with(path, v, material, base, Role::Data, NORMAL_MAP_FIELDS)?.mapped;
     let (strength, convention) = match v {
         Value::Table(_) => {
@@ -77,7 +88,9 @@ pub fn parse_normal_map(path: &str, v: &Value, material: &Fields, base: &Path) -
         }
         _ => (1.0, Convention::OpenGl),
     };
-    Ok(TangentNormalMap { texture, strength, convention })
+    let mut map = TangentNormalMap::new(texture, strength, convention);
+    map.slopes = slopes;
+    Ok(map)
 }
 
 fn parse_texture_with(

@@ -8,19 +8,18 @@ pub mod phong;
 
 pub use layer::{Layer, Mode, Target};
 pub use material::{AlphaMode, Chrome, Material};
-pub use phong::Phong;
+pub use phong::{Lobe8, Phong};
 
 use crate::bump::blinn::{perturbed_normal8, perturbed_normal_sided8};
-use crate::bump::{BumpFormula, BumpMap, DisplacementMode};
+use crate::bump::lean::WorldSpread8;
+use crate::bump::{BumpFilter, BumpFormula, BumpMap, DisplacementMode, SlopeFilter};
 use crate::envmap::Environment;
 use crate::geometry::frame_lanes::Frame8;
 use crate::geometry::mesh_lanes::MeshFrame8;
 use crate::geometry::Instance;
 use crate::lanes::{CmpGt, CmpLt, F8, LANES, V3};
 use crate::light::{Light, ShadowMap, Shadows, Spot};
-use crate::texture::{
-    Filter, FilterOptions, FilteredTexture, Footprint, Footprint8, LookupContext8, SurfaceLanes, UvSet8,
-};
+use crate::texture::{FilterOptions, FilteredTexture, Footprint, Footprint8, LookupContext8, SurfaceLanes, UvSet8};
 use glam::Vec3;
 use std::sync::Arc;
 
@@ -35,7 +34,7 @@ pub struct ShadeContext<'a> {
     pub needs: Vec<MappingNeeds>,
     pub bump_enabled: bool,
     /// Replaces every bump's own filter when set (`--bump-filter`).
-    pub bump_filter: Option<Filter>,
+    pub bump_filter: Option<BumpFilter>,
     /// What reflecting materials mirror.
     pub environment: Option<&'a Environment>,
     /// Per object, the six views rendered from its centroid that it mirrors instead (`reflect_views`).
@@ -214,9 +213,14 @@ impl ShadeContext<'_> {
     /// The filter of a bump: its own, or `--bump-filter`'s.
     fn bump_filter_of(&self, bump: &BumpMap) -> FilterOptions {
         match self.bump_filter {
-            Some(filter) => FilterOptions { filter, ..bump.filter },
+            Some(chosen) => FilterOptions { filter: chosen.texture, ..bump.filter },
             None => bump.filter,
         }
+    }
+
+    /// What a bump's filter does about the spread of the normals: its own choice, or `--bump-filter`'s.
+    fn slopes_of(&self, bump: &BumpMap) -> SlopeFilter {
+        self.bump_filter.map_or(bump.slopes, |chosen| chosen.slopes)
     }
 
     /// The alpha of eight samples of one primitive: the material's opacity through the layers that write
@@ -287,11 +291,20 @@ impl ShadeContext<'_> {
         let n_geo = surface.n;
         let (ctx, travel) = self.lookup_context(inst, material, &surface, at);
         // A displacement's F shades too (the displaced surface's own normal), with a bump's F added.
-        let bump = material
-            .bump
-            .as_ref()
-            .filter(|_| self.bump_enabled)
-            .map(|b| (b.eval8(&ctx, &self.bump_filter_of(b)), b.formula));
+        // A LEAN or Toksvig filter also gives the covariance of the slopes under the pixel.
+        let mut spread = None;
+        let bump = material.bump.as_ref().filter(|_| self.bump_enabled).map(|b| {
+            let filter = self.bump_filter_of(b);
+            let g = match self.slopes_of(b) {
+                SlopeFilter::Plain => b.eval8(&ctx, &filter),
+                slopes => {
+                    let (g, c) = b.eval_spread8(&ctx, &filter);
+                    spread = Some((slopes, Spread::Bump(b.formula, c)));
+                    g
+                }
+            };
+            (g, b.formula)
+        });
         let displaced = material.displacement.as_ref().map(|d| d.map.eval8(&ctx, &d.map.filter));
         let gradient = match (displaced, bump) {
             (Some(d), Some((b, _))) => Some((std::array::from_fn(|k| d[k] + b[k]), BumpFormula::Full)),
@@ -305,10 +318,16 @@ impl ShadeContext<'_> {
             },
             (None, Some(map), true) => {
                 let n = n_geo.normalize_or_zero();
-                match &at.mesh {
-                    None => map.normal8(&ctx, n, frame.pu.normalize_or_zero(), F8::ONE),
-                    Some(m) => map.normal8(&ctx, n, m.tangent, m.tangent_sign),
+                let (t, w) = match &at.mesh {
+                    None => (frame.pu.normalize_or_zero(), F8::ONE),
+                    Some(m) => (m.tangent, m.tangent_sign),
+                };
+                if map.slopes != SlopeFilter::Plain {
+                    if let Some(c) = map.spread8(&ctx) {
+                        spread = Some((map.slopes, Spread::NormalMap { t, bitangent: map.bitangent(n, t, w), n, c }));
+                    }
                 }
+                map.normal8(&ctx, n, t, w)
             }
             _ => n_geo,
         };
@@ -384,14 +403,35 @@ impl ShadeContext<'_> {
         }
         let albedo = kd.0;
         // The exponent of a shininess layer is a fraction of the material's, at least 1.
-        let exponent = shininess.map(|s| (F8::splat(material.phong.shininess) * s).max(F8::ONE));
-        let phong = match material.highlight_cutoff_holds() {
+        let mut exponent = shininess.map(|s| (F8::splat(material.phong.shininess) * s).max(F8::ONE));
+        // The spread of the normals widens the highlight: LEAN's lobe, or Toksvig's lower exponent
+        // s' = s / (1 + s sigma^2) with his factor (1 + s') / (1 + s) on ks.
+        let mut lobe = None;
+        let spreads = spread.is_some();
+        if let Some((slopes, of)) = spread {
+            let world = match of {
+                Spread::Bump(formula, c) => WorldSpread8::of(frame.pu, frame.pv, formula, &inst.normal_matrix, n, c),
+                Spread::NormalMap { t, bitangent, n: n_obj, c } => {
+                    WorldSpread8::of_tangent_frame(t, bitangent, n_obj, &inst.normal_matrix, n, c)
+                }
+            };
+            let s = exponent.unwrap_or(F8::splat(material.phong.shininess));
+            match slopes {
+                SlopeFilter::Toksvig => {
+                    let lowered = s / (F8::ONE + s * world.isotropic());
+                    ks = ks * (F8::ONE + lowered) / (F8::ONE + s);
+                    exponent = Some(lowered);
+                }
+                _ => lobe = Some(Lobe8::widened(world, s)),
+            }
+        }
+        let phong = match material.highlight_cutoff_holds() && !spreads {
             true => material.phong,
             false => Phong { cutoff: 0.0, ..material.phong },
         };
         let mut color = V3::ZERO;
         for (k, light) in self.lights.iter().enumerate() {
-            let mut lit = phong.shade8(light, position, n, v, albedo, ks, exponent);
+            let mut lit = phong.shade8(light, position, n, v, albedo, ks, exponent, lobe.as_ref());
             if let Light::Spot(spot) = light {
                 lit = lit * self.spot_tint8(spot, inst, position, &surface);
             }
@@ -418,6 +458,15 @@ impl ShadeContext<'_> {
         let uv = uv.unwrap_or(at.uv);
         ShadedPacket { color, normal: n, depth, uv }
     }
+}
+
+/// The covariance of the slopes under eight samples' pixels and what it is taken along: a bump's (Fu, Fv)
+/// on its surface, or a normal map's tangent-space slopes in its frame (object space). A temporary of one
+/// packet's shading, never stored, so its variants' sizes do not matter.
+#[allow(clippy::large_enum_variant)]
+enum Spread {
+    Bump(BumpFormula, [F8; 3]),
+    NormalMap { t: V3, bitangent: V3, n: V3, c: [F8; 3] },
 }
 
 /// The view vector `v` (towards the eye) mirrored about the unit normal `n`: R = 2 (N.V) N - V.

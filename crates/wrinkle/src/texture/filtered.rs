@@ -119,6 +119,14 @@ impl FilteredTexture {
         &self.options
     }
 
+    /// Texel (i, j) of level 0 (j counted from the bottom) in linear RGBA.
+    pub fn texel(&self, i: usize, j: usize) -> Vec4 {
+        match &*self.data {
+            Levels::Float(d) => d.levels()[0].texel(i, j),
+            Levels::Bytes(d) => d.levels()[0].texel(i, j),
+        }
+    }
+
     /// The filtered texture at (s, t) of one period, footprint in the same units.
     #[inline]
     pub fn lookup(&self, s: f32, t: f32, fp: &Footprint) -> Vec4 {
@@ -180,6 +188,10 @@ impl Texture for FilteredTexture {
     #[inline]
     fn eval(&self, ctx: &LookupContext) -> Vec4 {
         self.lookup(ctx.uv.x, ctx.uv.y, &ctx.footprint)
+    }
+
+    fn image(&self) -> Option<&FilteredTexture> {
+        Some(self)
     }
 
     fn eval8(&self, ctx: &LookupContext8<'_>) -> [F8; 4] {

@@ -129,32 +129,27 @@ pub trait Resample: TexelSource + Sized + Send + Clone {
 
 impl<T: Texel> Resample for Plane<T> {
     fn downsample(&self, nw: usize, nh: usize, filter: MipFilter, wrap: [Wrap; 2]) -> Self {
-        resample_plane(self, nw, nh, filter, wrap)
+        resample(self, nw, nh, filter, wrap)
     }
 }
 
 /// Resamples `src` to `nw` x `nh` in one pass over the output rows (in parallel): each output row first
 /// combines its source rows, then its columns, so the source is streamed once.
-pub fn resample_plane<T: Texel>(src: &Plane<T>, nw: usize, nh: usize, filter: MipFilter, wrap: [Wrap; 2]) -> Plane<T> {
-    let (w, h) = (src.width, src.height);
+pub fn resample<S: TexelSource>(src: &S, nw: usize, nh: usize, filter: MipFilter, wrap: [Wrap; 2]) -> Plane<S::Texel> {
+    let (w, h) = (src.width(), src.height());
     let cols = axis_taps(w, nw, filter, wrap[0]);
     let rows = axis_taps(h, nh, filter, wrap[1]);
-    let mut texels = vec![T::default(); nw * nh];
+    let mut texels = vec![S::Texel::default(); nw * nh];
     // Rows per parallel task: enough work to amortise the task, small enough to share among threads.
     let band = (65536 / nw.max(1)).clamp(1, 64);
     texels.par_chunks_mut(nw * band).enumerate().for_each(|(b, out)| {
-        let mut combined = vec![T::default(); w];
+        let mut combined = vec![S::Texel::default(); w];
         for (r, out_row) in out.chunks_mut(nw).enumerate() {
             let y = b * band + r;
             let taps = &rows[y];
-            let (j0, w0) = taps[0];
-            for (c, &s) in combined.iter_mut().zip(src.row(j0)) {
-                *c = s * w0;
-            }
-            for &(j, wj) in &taps[1..] {
-                for (c, &s) in combined.iter_mut().zip(src.row(j)) {
-                    *c = *c + s * wj;
-                }
+            combined.fill(S::Texel::default());
+            for &(j, wj) in taps {
+                src.add_row(j, wj, &mut combined);
             }
             for (o, taps) in out_row.iter_mut().zip(&cols) {
                 let mut sum = combined[taps[0].0] * taps[0].1;

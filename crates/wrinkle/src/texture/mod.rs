@@ -47,6 +47,11 @@ pub trait Texture: Send + Sync {
     fn with_filter(&self, _filter: Filter) -> Option<std::sync::Arc<dyn Texture>> {
         None
     }
+
+    /// The image behind the texture, where it is one (what LEAN filtering of a normal map reads).
+    fn image(&self) -> Option<&FilteredTexture> {
+        None
+    }
 }
 
 /// `eval` once per lane, transposed to channel lanes.

@@ -72,6 +72,14 @@ pub trait TexelSource: Sync {
     fn quad(&self, i: [usize; 2], j: [usize; 2]) -> [Self::Texel; 4] {
         [self.texel(i[0], j[0]), self.texel(i[1], j[0]), self.texel(i[0], j[1]), self.texel(i[1], j[1])]
     }
+
+    /// Adds row `j` times `weight` to `sum` (one texel per column): what resampling a level reads.
+    #[inline]
+    fn add_row(&self, j: usize, weight: f32, sum: &mut [Self::Texel]) {
+        for (i, s) in sum.iter_mut().enumerate() {
+            *s = *s + self.texel(i, j) * weight;
+        }
+    }
 }
 
 /// One image of texels, row 0 at the bottom.
@@ -138,5 +146,12 @@ impl<T: Texel> TexelSource for Plane<T> {
     #[inline]
     fn texel(&self, i: usize, j: usize) -> T {
         self.texels[j * self.width + i]
+    }
+
+    #[inline]
+    fn add_row(&self, j: usize, weight: f32, sum: &mut [T]) {
+        for (s, &t) in sum.iter_mut().zip(self.row(j)) {
+            *s = *s + t * weight;
+        }
     }
 }

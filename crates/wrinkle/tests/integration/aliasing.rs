@@ -3,7 +3,7 @@
 //! the cheap one. Both must come closer to the converged image than plain 1-sample rendering.
 
 use std::path::Path;
-use wrinkle::texture::Filter;
+use wrinkle::bump::BumpFilter;
 use wrinkle::{render, RenderOptions, Scene};
 
 /// A sphere under a fine grid of bumps: 96 x 48 cells over the sphere, a few pixels each at 160 x 120.
@@ -47,7 +47,7 @@ fn supersampling_and_mip_filtering_reduce_bump_aliasing() {
     // The reference: 16 stratified samples per pixel. Measured: 1 spp 0.064, mip 0.037, 4 spp 0.026.
     let reference = grey(&RenderOptions { spp: 16, ..base.clone() });
     let plain = grey(&base);
-    let mip = grey(&RenderOptions { bump_filter: Some(Filter::Trilinear), ..base.clone() });
+    let mip = grey(&RenderOptions { bump_filter: BumpFilter::parse("mip"), ..base.clone() });
     let four = grey(&RenderOptions { spp: 4, ..base.clone() });
     let (e_plain, e_mip, e_four) = (rmse(&plain, &reference), rmse(&mip, &reference), rmse(&four, &reference));
     eprintln!("rmse against 16 spp: 1 spp {e_plain:.4}, 1 spp + mip {e_mip:.4}, 4 spp {e_four:.4}");

@@ -15,6 +15,7 @@ mod examples;
 mod filtering;
 mod height_maps;
 mod layers;
+mod lean;
 mod mappings;
 mod meshes;
 mod normal_map_reference;
