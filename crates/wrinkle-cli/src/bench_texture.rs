@@ -8,6 +8,7 @@ use rayon::prelude::*;
 use std::hint::black_box;
 use std::time::Instant;
 use wrinkle::image::color::srgb8_decode_table;
+use wrinkle::bump::BumpTable;
 use wrinkle::texture::mip::pyramid;
 use wrinkle::{
     Error, Filter, FilterOptions, FilteredTexture, Footprint, Image, MipFilter, Result, TextureOptions, Wrap,
@@ -212,6 +213,23 @@ pub fn run(args: &BenchTextureArgs) -> Result<()> {
         median(builds)
     );
     drop(image);
+    // A bump table of the same size: its pyramid, then the moments of its slopes for LEAN filtering.
+    let heights = Image { width: n, height: n, pixels: (0..n * n).map(|_| rng.next()).collect::<Vec<f32>>() };
+    let (mut tables, mut moments) = (Vec::new(), Vec::new());
+    for _ in 0..args.rounds {
+        let t = Instant::now();
+        let table = BumpTable::new(&heights);
+        tables.push(t.elapsed().as_secs_f64() * 1e3);
+        let t = Instant::now();
+        black_box(table.moments());
+        moments.push(t.elapsed().as_secs_f64() * 1e3);
+    }
+    drop(heights);
+    println!(
+        "bump-pyramid size={n}x{n} threads={threads} table_ms={:.1} lean_moments_ms={:.1}",
+        median(tables),
+        median(moments)
+    );
     for filter in filters {
         let tex = texture.with_options(FilterOptions { filter, ..FilterOptions::default() });
         // Ripmaps and summed-area tables are built on first use: not part of the lookups timed.
