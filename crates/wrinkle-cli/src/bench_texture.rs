@@ -7,8 +7,8 @@ use glam::{Vec2, Vec4};
 use rayon::prelude::*;
 use std::hint::black_box;
 use std::time::Instant;
-use wrinkle::image::color::srgb8_decode_table;
 use wrinkle::bump::BumpTable;
+use wrinkle::image::color::srgb8_decode_table;
 use wrinkle::texture::mip::pyramid;
 use wrinkle::{
     Error, Filter, FilterOptions, FilteredTexture, Footprint, Image, MipFilter, Result, TextureOptions, Wrap,

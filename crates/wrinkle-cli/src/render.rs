@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use wrinkle::bump::BumpFilter;
 use wrinkle::image::output::OutputSet;
 use wrinkle::render::{Aovs, Transparency};
-use wrinkle::texture::Filter;
+use wrinkle::texture::{Filter, TexelLocation};
 use wrinkle::{render_with_progress, Crop, Error, PixelFilter, RenderOptions, Result, Sampler, Scene};
 
 #[derive(Args, Debug)]
@@ -79,6 +79,11 @@ pub struct FrameArgs {
     /// the same image.
     #[arg(long, default_value_t = 0)]
     pub seed: u32,
+    /// Where each pixel reads its textures and bumps: centre (the (u,v) of its centre, the footprint of
+    /// their derivatives), centroid (the average (u,v) of its four corners projected onto the surface) or
+    /// diagonals (where that quadrilateral's diagonals cross), both with the quadrilateral's footprint.
+    #[arg(long, default_value = "centre", value_parser = TexelLocation::NAMES.map(|(n, _)| n))]
+    pub texel_location: String,
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
@@ -119,6 +124,7 @@ impl FrameArgs {
             height: self.height,
             spp: self.spp,
             sampler: Sampler::parse(&self.sampler).expect("clap checked the sampler"),
+            texel_location: TexelLocation::parse(&self.texel_location).expect("clap checked the location"),
             pixel_filter: PixelFilter::parse(&self.pixel_filter)?,
             seed: self.seed,
             bump: !self.no_bump,

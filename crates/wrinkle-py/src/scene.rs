@@ -11,6 +11,7 @@ use std::sync::mpsc;
 use std::time::Duration;
 use wrinkle::bump::BumpFilter;
 use wrinkle::render::{Aovs, Transparency};
+use wrinkle::texture::TexelLocation;
 use wrinkle::{Crop, PixelFilter, RenderOptions, Sampler};
 
 /// How often a render in progress looks up from its work: for Ctrl-C, and to report progress.
@@ -75,7 +76,7 @@ impl Scene {
 
     /// Renders a frame: "color" (H, W, 3) linear RGB and each AOV named in `aovs`, as arrays. `progress`,
     /// when given, is called with (done, total) from the calling thread as bands finish.
-    #[pyo3(signature = (width, height, spp, aovs, bump, bump_filter, transparent, transparency, turntable, progress, crop=None, sampler="stratified", pixel_filter="box", seed=0))]
+    #[pyo3(signature = (width, height, spp, aovs, bump, bump_filter, transparent, transparency, turntable, progress, crop=None, sampler="stratified", pixel_filter="box", seed=0, texel_location="centre"))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
@@ -94,6 +95,7 @@ impl Scene {
         sampler: &str,
         pixel_filter: &str,
         seed: u32,
+        texel_location: &str,
     ) -> PyResult<Bound<'py, PyDict>> {
         let mut kinds = Aovs::default();
         for name in &aovs {
@@ -120,6 +122,10 @@ impl Scene {
                 invalid(format!("sampler: expected one of {}, got \"{sampler}\"", Sampler::NAMES.join(", ")))
             })?,
             pixel_filter: PixelFilter::parse(pixel_filter).py_err()?,
+            texel_location: TexelLocation::parse(texel_location).ok_or_else(|| {
+                let names = TexelLocation::NAMES.map(|(n, _)| n).join(", ");
+                invalid(format!("texel_location: expected one of {names}, got \"{texel_location}\""))
+            })?,
             seed,
             bump,
             bump_filter: bump_filter

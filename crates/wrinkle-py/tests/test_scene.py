@@ -54,6 +54,24 @@ def test_sampler_and_pixel_filter_match_the_cli(cli, tmp_path):
     assert np.abs(boxed["color"] - frame["color"]).max() > 0.05
 
 
+def test_texel_location_and_lean_match_the_cli(cli, tmp_path, repo):
+    floor = repo / "scenes" / "checker_floor.toml"
+    out = tmp_path / "floor.exr"
+    cli("render", floor, "-o", out, "--width", 96, "--height", 64, "--texel-location", "centroid",
+        "--bump-filter", "lean", "--aov", "uv")
+    scene = wrinkle.Scene.load(floor)
+    frame = scene.render(96, 64, aov="uv", texel_location="centroid", bump_filter="lean")
+    assert np.array_equal(wrinkle.read_exr(out)["R"], frame["color"][..., 0])
+    uv = wrinkle.read_exr(tmp_path / "floor.uv.exr")
+    seen = ~np.isnan(frame["uv"][..., 0])
+    assert np.array_equal(uv["U"][seen], frame["uv"][..., 0][seen])
+    # The centroid of the projected corners is not the centre's (u,v): the option was used, not ignored.
+    centre = scene.render(96, 64, aov="uv")["uv"]
+    assert np.nanmax(np.abs(centre - frame["uv"])) > 1e-3
+    with pytest.raises(ValueError, match="texel_location"):
+        scene.render(32, 32, texel_location="middle")
+
+
 def test_an_animated_scene_at_a_time_is_the_clis_frame(cli, tmp_path, repo):
     scene = wrinkle.Scene.load(repo / "scenes" / "animation.toml")
     assert scene.animation_end == 4.0

@@ -171,6 +171,7 @@ class Scene:
         sampler: str = "stratified",
         pixel_filter: str = "box",
         seed: int = 0,
+        texel_location: str = "centre",
     ) -> dict:
         """Renders a frame as `wrinkle render` does, returning arrays by name:
 
@@ -185,7 +186,9 @@ class Scene:
         `spp` is 1 to 4096 samples per pixel, placed by `sampler`: "stratified" (jittered strata, the same in
         every pixel) or "sobol" (Owen-scrambled per pixel). `pixel_filter` makes the pixel from them: "box",
         "tent", "gaussian", "mitchell" or "lanczos", or "NAME:RADIUS"; `seed` seeds the Sobol scrambles
-        (renders with other seeds are independent estimates of the same image). `progress=True` shows a tqdm bar; a
+        (renders with other seeds are independent estimates of the same image). `texel_location` is where a
+        pixel reads its textures: "centre", or "centroid" or "diagonals" of its projected corners (with their
+        quadrilateral's footprint). `progress=True` shows a tqdm bar; a
         callable gets (done, total). Ctrl-C stops the render promptly (KeyboardInterrupt)."""
         if isinstance(aov, str):
             aov = (aov,)
@@ -195,6 +198,7 @@ class Scene:
                 int(width), int(height), int(spp), [str(a) for a in aov], bool(bump), bump_filter,
                 bool(transparent), str(transparency), float(turntable), callback,
                 None if crop is None else tuple(int(c) for c in crop), str(sampler), str(pixel_filter), int(seed),
+                str(texel_location),
             )
         finally:
             if bar is not None:

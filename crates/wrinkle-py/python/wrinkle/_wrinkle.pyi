@@ -66,6 +66,7 @@ class Scene:
         sampler: str = "stratified",
         pixel_filter: str = "box",
         seed: int = 0,
+        texel_location: str = "centre",
     ) -> Dict[str, np.ndarray]: ...
 
 class Texture:

@@ -92,10 +92,8 @@ mod tests {
 
     fn silhouette(threshold: Option<f32>) -> Displacement {
         let table = BumpTable::new(&crate::image::GreyImage::new(2, 2, 0.0));
-        let map = BumpMap {
-            formula: BumpFormula::Full,
-            ..BumpMap::new(BumpSource::Table(Arc::new(table)), 1.0).unwrap()
-        };
+        let map =
+            BumpMap { formula: BumpFormula::Full, ..BumpMap::new(BumpSource::Table(Arc::new(table)), 1.0).unwrap() };
         Displacement { map, mode: DisplacementMode::Silhouette { threshold }, edge_px: 1.0 }
     }
 

@@ -30,7 +30,7 @@ use crate::raster::visibility::EMPTY;
 use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
 use crate::scene::{CameraDesc, Scene};
 use crate::shade::{AlphaMode, Ibl, MappingNeeds, ShadeContext, ShadedSample, SurfaceSamples8};
-use crate::texture::Footprint8;
+use crate::texture::{Footprint8, TexelLocation};
 use crate::{Error, Result};
 use glam::{Affine3A, Quat, Vec2, Vec3};
 use rayon::prelude::*;
@@ -59,6 +59,9 @@ pub struct RenderOptions {
     /// Seeds the Sobol sampler's per-pixel scrambles: renders with different seeds are independent
     /// estimates of the same image (their difference measures the noise).
     pub seed: u32,
+    /// Where a pixel reads its textures and bumps: its centre's (u,v) (the default), or the centroid or
+    /// diagonal crossing of its projected corners, with their quadrilateral's footprint.
+    pub texel_location: TexelLocation,
     pub bump: bool,
     /// Replaces every material's bump filter when set.
     pub bump_filter: Option<BumpFilter>,
@@ -103,6 +106,7 @@ impl Default for RenderOptions {
             sampler: Sampler::default(),
             pixel_filter: PixelFilter::default(),
             seed: 0,
+            texel_location: TexelLocation::Centre,
             bump: true,
             bump_filter: None,
             turntable_degrees: 0.0,
@@ -325,6 +329,7 @@ fn render_view_parts(
         background,
         aovs,
         sample_cell: (1.0 / options.spp as f32).sqrt(),
+        texel_location: options.texel_location,
         volumes: &scene.volumes,
         sky: scene.environment.as_ref().filter(|e| e.background && !options.transparent).map(|e| &e.map),
         lights: &scene.lights,
@@ -680,6 +685,8 @@ struct TileJob<'a> {
     aovs: Aovs,
     /// The side of one sample's cell of the pixel (1/sqrt(spp)), which scales its footprint.
     sample_cell: f32,
+    /// Where the samples read their textures (`RenderOptions::texel_location`).
+    texel_location: TexelLocation,
     volumes: &'a [Hypertexture],
     /// The environment, where it is the background.
     sky: Option<&'a Environment>,
@@ -727,6 +734,7 @@ impl<'a> TileJob<'a> {
             background: Vec3::ZERO,
             aovs: Aovs::default(),
             sample_cell: 1.0,
+            texel_location: TexelLocation::Centre,
             volumes: &[],
             sky: None,
             lights: &[],
@@ -945,9 +953,13 @@ impl<'a> TileJob<'a> {
                     frame = Frame8::select(mask, &exact_frame, &frame);
                     duv = std::array::from_fn(|k| mask.blend(exact_duv[k], duv[k]));
                 }
-                parametric = (uv, frame);
                 let [dudx, dvdx, dudy, dvdy] = duv.map(|d| d * F8::splat(self.sample_cell));
-                let footprint = Footprint8 { dudx, dvdx, dudy, dvdy };
+                let mut footprint = Footprint8 { dudx, dvdx, dudy, dvdy };
+                if self.texel_location != TexelLocation::Centre {
+                    let rays = self.camera.rays8(sx, sy, self.sample_cell).transformed(&inst.camera_to_object);
+                    (uv, footprint) = self.texel_location.locate8(&rays, frame.p, frame.pu, frame.pv, uv, footprint);
+                }
+                parametric = (uv, frame);
                 SurfaceSamples8 { frame: &parametric.1, uv: parametric.0, footprint, uv1: None, triangles, mesh: None }
             }
             Primitive::Mesh(mesh) => {
@@ -958,10 +970,12 @@ impl<'a> TileJob<'a> {
                 let second_set = self.shade.needs[inst.material].second_uv;
                 mesh_sample = mesh_lanes::sample8(mesh, &local, &rays, second_set);
                 let m = &mesh_sample;
+                let (uv, footprint) =
+                    self.texel_location.locate8(&rays, m.frame.p, m.frame.pu, m.frame.pv, m.uv, m.footprint);
                 SurfaceSamples8 {
                     frame: &m.frame,
-                    uv: m.uv,
-                    footprint: m.footprint,
+                    uv,
+                    footprint,
                     uv1: m.uv1.as_ref(),
                     triangles,
                     mesh: Some(m.orientation),

@@ -9,6 +9,7 @@ pub mod filter;
 pub mod filtered;
 pub mod footprint;
 pub(crate) mod ground_truth;
+pub mod location;
 pub mod mip;
 pub mod reconstruct;
 pub(crate) mod rgba8;
@@ -22,6 +23,7 @@ pub use context::{LookupContext, LookupContext8, PrimitiveId, SurfaceLanes, UvSe
 pub use filter::{Filter, FilterOptions, Filterable};
 pub use filtered::{FilteredTexture, TextureOptions};
 pub use footprint::{Footprint, Footprint8};
+pub use location::TexelLocation;
 pub use mip::{LevelRule, MipFilter};
 pub use wrap::Wrap;
 

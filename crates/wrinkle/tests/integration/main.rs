@@ -26,5 +26,6 @@ mod sampling;
 mod scene_robustness;
 mod shadows;
 mod spot_lights;
+mod texel_location;
 mod transparency;
 mod transparent_background;
