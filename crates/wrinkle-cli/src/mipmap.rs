@@ -1,5 +1,5 @@
-//! `wrinkle mipmap`: a texture's MIP pyramid, built in linear light, written as one atlas PNG or one
-//! PNG per level.
+//! `wrinkle mipmap`: a texture's MIP pyramid, built in linear light, written as one atlas PNG, one PNG per
+//! level, or one multi-resolution file as OpenImageIO's `maketx` writes it (OpenEXR MIPMAP, tiled TIFF).
 
 use crate::output::require_extension;
 use clap::Args;
@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 use wrinkle::image::color::SrgbEncoder;
 use wrinkle::image::io;
+use wrinkle::image::levels::{write_exr_levels, write_tiff_levels, TiffSamples};
 use wrinkle::image::output::OutputSet;
 use wrinkle::limits;
 use wrinkle::texture::mip::{half, pyramid};
@@ -14,7 +15,7 @@ use wrinkle::{Error, Image, MipFilter, Result, Wrap};
 
 #[derive(Args, Debug)]
 #[command(
-    after_help = "Examples:\n  wrinkle mipmap bricks.png -o bricks_mips.png                 atlas: level 0, the others stacked to its right\n  wrinkle mipmap bricks.png -o mips.png --filter kaiser --levels   mips_0.png, mips_1.png, ...\n  wrinkle mipmap heights.png -o h.png --linear                 data, not colour: no sRGB decoding"
+    after_help = "Examples:\n  wrinkle mipmap bricks.png -o bricks_mips.png                 atlas: level 0, the others stacked to its right\n  wrinkle mipmap bricks.png -o mips.png --filter kaiser --levels   mips_0.png, mips_1.png, ...\n  wrinkle mipmap heights.png -o h.png --linear                 data, not colour: no sRGB decoding\n  wrinkle mipmap bricks.png -o bricks.exr --format exr         one OpenEXR file with MIPMAP levels\n  wrinkle mipmap bricks.png -o bricks.tif --format tiff        one tiled TIFF, the levels after level 0 (maketx's layout)"
 )]
 pub struct MipmapArgs {
     /// The texture (PNG, JPEG, BMP, TGA, TIFF, EXR; 8-bit, 16-bit or float).
@@ -34,10 +35,23 @@ pub struct MipmapArgs {
     /// One file per level (OUT_0.png, OUT_1.png, ...) instead of an atlas.
     #[arg(long)]
     pub levels: bool,
+    /// png (an atlas, or --levels), exr (one OpenEXR file with MIPMAP levels: float RGBA, 64x64 tiles) or
+    /// tiff (one tiled TIFF with the levels as reduced-resolution images: 8-bit sRGB, 16-bit with --linear),
+    /// both readable by OpenImageIO and by wrinkle's textures, which then use these levels.
+    #[arg(long, default_value = "png", value_parser = ["png", "exr", "tiff"])]
+    pub format: String,
 }
 
 pub fn run(args: &MipmapArgs) -> Result<()> {
-    require_extension(&args.output, &["png"])?;
+    let extensions: &[&str] = match args.format.as_str() {
+        "exr" => &["exr"],
+        "tiff" => &["tif", "tiff", "tx"],
+        _ => &["png"],
+    };
+    require_extension(&args.output, extensions)?;
+    if args.levels && args.format != "png" {
+        return Err(Error::Invalid(format!("--levels writes PNG files; --format {} writes one file", args.format)));
+    }
     let filter = MipFilter::parse(&args.filter).expect("clap checked the name");
     let wrap = Wrap::parse(&args.wrap).expect("clap checked the name");
     let image = io::load_rgba_linear(&args.input, !args.linear)?;
@@ -48,7 +62,7 @@ pub fn run(args: &MipmapArgs) -> Result<()> {
     limits::reserve(pixels * 16 * 10 / 3 + pixels * 4 * 3 / 2, || {
         format!("{}: a MIP pyramid of {w}x{h}", args.input.display())
     })?;
-    if !args.levels {
+    if !args.levels && args.format == "png" {
         let (aw, ah) = atlas_size(w, h);
         io::check_size(aw, ah).map_err(|m| {
             Error::Invalid(format!("{}: the atlas of a {w}x{h} texture: {m}; or write --levels", args.output.display()))
@@ -59,7 +73,12 @@ pub fn run(args: &MipmapArgs) -> Result<()> {
     drop(image);
     let ms = t.elapsed().as_secs_f64() * 1e3;
     let encode = Encoder { srgb: !args.linear, table: SrgbEncoder::new() };
-    if args.levels {
+    if args.format == "exr" {
+        write_exr_levels(&args.output, &levels)?;
+    } else if args.format == "tiff" {
+        let samples = if args.linear { TiffSamples::Linear16 } else { TiffSamples::Srgb8 };
+        write_tiff_levels(&args.output, &levels, samples)?;
+    } else if args.levels {
         let mut set = OutputSet::new();
         for (k, level) in levels.iter().enumerate() {
             set.stage(&numbered(&args.output, k), |path| {

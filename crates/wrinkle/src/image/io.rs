@@ -90,23 +90,31 @@ pub fn load_texels(path: &Path, srgb: bool) -> Result<Texels> {
     Ok(load_texture_file(path, srgb)?.texels)
 }
 
-/// A texture's texels and whether its file has an alpha channel (OpenGL's RGBA base format, not RGB).
+/// A texture's texels, whether its file has an alpha channel (OpenGL's RGBA base format, not RGB), and the
+/// coarser levels a multi-resolution file brings (linear RGBA, level 1 first; empty for most files).
 pub struct TextureFile {
     pub texels: Texels,
     pub alpha: bool,
+    pub levels: Vec<Image<[f32; 4]>>,
 }
 
-/// [`load_texels`], and whether the file has an alpha channel.
+/// [`load_texels`], whether the file has an alpha channel, and its own coarser levels where it is
+/// MIP-mapped (`super::levels::read_levels`).
 pub fn load_texture_file(path: &Path, srgb: bool) -> Result<TextureFile> {
+    if let Some(file) = super::levels::read_levels(path, srgb)? {
+        let mut levels = file.levels.into_iter();
+        let base = levels.next().expect("a file's levels start with level 0");
+        return Ok(TextureFile { texels: Texels::Linear(base), alpha: file.alpha, levels: levels.collect() });
+    }
     if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr")) {
         let (image, alpha) = load_exr_rgba(path)?;
-        return Ok(TextureFile { texels: Texels::Linear(image), alpha });
+        return Ok(TextureFile { texels: Texels::Linear(image), alpha, levels: Vec::new() });
     }
     if let Some(grey) = load_tiff_grey_f32(path) {
         let grey = grey?;
         let pixels = grey.pixels.iter().map(|&g| [g, g, g, 1.0]).collect();
         let texels = Texels::Linear(Image { width: grey.width, height: grey.height, pixels });
-        return Ok(TextureFile { texels, alpha: false });
+        return Ok(TextureFile { texels, alpha: false, levels: Vec::new() });
     }
     // RGBA bytes (twice: converted, then collected), or RGBA f32 (likewise), or 16-bit then f32.
     let img = decode(path, |c| match c.bytes_per_pixel() / c.channel_count() {
@@ -139,7 +147,7 @@ pub fn load_texture_file(path: &Path, srgb: bool) -> Result<TextureFile> {
             .collect();
         Texels::Linear(Image { width, height, pixels })
     };
-    Ok(TextureFile { texels, alpha })
+    Ok(TextureFile { texels, alpha, levels: Vec::new() })
 }
 
 /// A colour texture in linear light as RGBA f32: [`load_texels`] with 8-bit texels decoded too.
@@ -367,7 +375,7 @@ fn write_exr_samples(path: &Path, at: Placement, channels: Vec<(&str, FlatSample
 }
 
 /// The header of an OpenEXR file's first layer, read without its pixels.
-fn first_exr_header(path: &Path) -> Result<exr::meta::header::Header> {
+pub(crate) fn first_exr_header(path: &Path) -> Result<exr::meta::header::Header> {
     let meta = exr::meta::MetaData::read_from_buffered(BufReader::new(open_input(path)?), false)
         .map_err(|e| exr_read_error(path, e))?;
     meta.headers.into_iter().next().ok_or_else(|| Error::read(path, "not a valid OpenEXR file: it has no layer"))

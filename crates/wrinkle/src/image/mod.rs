@@ -3,6 +3,7 @@
 pub mod color;
 pub mod indexed;
 pub mod io;
+pub mod levels;
 pub mod output;
 pub mod resample;
 #[cfg(test)]

@@ -8,7 +8,8 @@ use super::mapping::parse_mapping;
 use crate::bump::normal_map::Convention;
 use crate::bump::{BumpFilter, SlopeFilter, TangentNormalMap};
 use crate::image::color::decode_rgba8;
-use crate::image::{indexed, io};
+use crate::image::levels::check_chain;
+use crate::image::{indexed, io, Image};
 use crate::limits;
 use crate::mapping::{MappedTexture, Mapping};
 use crate::texture::colour_table::{IndexedTexture, LutTexture};
@@ -16,7 +17,7 @@ use crate::texture::reconstruct::Kernel;
 use crate::texture::{Filter, FilterOptions, FilteredTexture, LevelRule, MipFilter, Texture, TextureOptions, Wrap};
 use crate::{Error, Result};
 use glam::Vec4;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use toml::Value;
 
@@ -36,6 +37,7 @@ const TEXTURE_FIELDS: &[&str] = &[
     "indexed",
     "palette",
     "lut",
+    "levels",
 ];
 /// A normal map's fields beside the texture's.
 const NORMAL_MAP_FIELDS: &[&str] = &["strength", "convention"];
@@ -114,11 +116,11 @@ fn parse_texture_with(
         Role::Data => None,
     };
     let srgb_default = role == Role::Colour;
-    let (file, file_field, options, srgb, mapping) = match v {
+    let (file, file_field, options, srgb, mapping, levels) = match v {
         Value::String(s) => {
             let filter = FilterOptions { filter: beside.unwrap_or(Filter::Trilinear), ..FilterOptions::default() };
             let options = TextureOptions { filter, ..TextureOptions::default() };
-            (s.as_str(), path.to_string(), options, srgb_default, Mapping::default())
+            (s.as_str(), path.to_string(), options, srgb_default, Mapping::default(), Vec::new())
         }
         _ => {
             let f = Fields::new(path, v, &[TEXTURE_FIELDS, extra].concat())?;
@@ -155,13 +157,34 @@ fn parse_texture_with(
             let srgb = f.boolean("srgb", srgb_default)?;
             let path = resolve(base, &f.at("path"), file)?;
             if let Some(source) = colour_table(&f, &path, base, srgb, &options, &mapping)? {
+                if f.get("levels").is_some() {
+                    return Err(Error::scene(f.at("levels"), "applies to image textures, not to colour tables"));
+                }
                 return Ok(source);
             }
-            (file, f.at("path"), options, srgb, mapping)
+            (file, f.at("path"), options, srgb, mapping, level_files(&f, base)?)
         }
     };
-    let (texture, rgba) = load_texture(&resolve(base, &file_field, file)?, srgb, options)?;
+    let path = resolve(base, &file_field, file)?;
+    let (texture, rgba) = load_texture_levels(&path, &levels, srgb, options)?;
     Ok(Source { mapped: MappedTexture { texture: Arc::new(texture), mapping }, rgba })
+}
+
+/// `levels = ["level1.png", "level2.png", ...]`: the texture's levels 1, 2, ... as files.
+fn level_files(f: &Fields, base: &Path) -> Result<Vec<PathBuf>> {
+    let Some(v) = f.get("levels") else { return Ok(Vec::new()) };
+    let names = v.as_array().filter(|a| !a.is_empty()).ok_or_else(|| {
+        Error::scene(f.at("levels"), format!("expected a list of file names (level 1 first), got {}", describe(v)))
+    })?;
+    names
+        .iter()
+        .enumerate()
+        .map(|(k, name)| {
+            let at = format!("{}[{k}]", f.at("levels"));
+            let name = name.as_str().ok_or_else(|| Error::scene(&at, format!("expected a file name, got {}", describe(name))))?;
+            resolve(base, &at, name)
+        })
+        .collect()
 }
 
 /// A colour table texture, where the table asks for one: `indexed = true` or a `palette` file (indices
@@ -221,7 +244,37 @@ fn colour_table(
 
 /// An image file as a filtered texture, and whether the file has an alpha channel.
 pub fn load_texture(file: &Path, srgb: bool, options: TextureOptions) -> Result<(FilteredTexture, bool)> {
-    let io::TextureFile { texels, alpha } = io::load_texture_file(file, srgb)?;
+    load_texture_levels(file, &[], srgb, options)
+}
+
+/// `load_texture` with its levels 1, 2, ... from `level_files` (as `glTexImage2D` takes a level each), or
+/// from the file itself where it is MIP-mapped (maketx's tiled TIFF, an OpenEXR MIPMAP or RIPMAP): those
+/// levels are used, not rebuilt, and the pyramid is completed from the last one.
+pub fn load_texture_levels(
+    file: &Path,
+    level_files: &[PathBuf],
+    srgb: bool,
+    options: TextureOptions,
+) -> Result<(FilteredTexture, bool)> {
+    let io::TextureFile { texels, mut alpha, mut levels } = io::load_texture_file(file, srgb)?;
+    if !levels.is_empty() && !level_files.is_empty() {
+        return Err(Error::read(file, "is MIP-mapped already: give its levels or the file's own, not both"));
+    }
+    for level in level_files {
+        let given = io::load_texture_file(level, srgb)?;
+        if !given.levels.is_empty() {
+            return Err(Error::read(level, "a level given on its own must be one image, not MIP-mapped"));
+        }
+        alpha |= given.alpha;
+        levels.push(linear(given.texels, srgb));
+    }
+    if !levels.is_empty() {
+        levels.insert(0, linear(texels, srgb));
+        check_chain(file, &levels)?;
+        let texels: usize = levels.iter().map(|l| l.width * l.height).sum();
+        limits::reserve(texels as u64 * 32, || format!("{}: its {} given levels", file.display(), levels.len()))?;
+        return Ok((FilteredTexture::from_levels(&levels, options), alpha));
+    }
     let (width, height, bytes8) = match &texels {
         io::Texels::Rgba8(image) => (image.width, image.height, true),
         io::Texels::Linear(image) => (image.width, image.height, false),
@@ -241,6 +294,16 @@ pub fn load_texture(file: &Path, srgb: bool, options: TextureOptions) -> Result<
         io::Texels::Linear(image) => FilteredTexture::new(&image, options),
     };
     Ok((texture, alpha))
+}
+
+/// Texels in linear RGBA (8-bit ones decoded, from sRGB with `srgb`).
+fn linear(texels: io::Texels, srgb: bool) -> Image<[f32; 4]> {
+    match texels {
+        io::Texels::Rgba8(image) => {
+            Image { width: image.width, height: image.height, pixels: decode_rgba8(&image.pixels, srgb) }
+        }
+        io::Texels::Linear(image) => image,
+    }
 }
 
 fn filter_choices() -> Vec<(&'static str, Option<Filter>)> {

@@ -3,7 +3,7 @@
 //! [`Filter`] for every lookup.
 
 use super::filter::{Filter, FilterOptions, Filterable};
-use super::mip::{build_levels, pyramid_of, LevelRule, MipFilter};
+use super::mip::{build_rgba_levels, pyramid_of, LevelRule, MipFilter};
 use super::rgba8::Rgba8Plane;
 use super::texel::{Plane, TexelSource};
 use super::trilinear8::{trilinear8, trilinear_taps8};
@@ -80,7 +80,8 @@ impl FilteredTexture {
     pub fn new<'a>(image: impl Into<ImageRef<'a, [f32; 4]>>, options: TextureOptions) -> Self {
         let image = image.into();
         let plane = Plane::from_top_rows_with(image.width(), image.height(), image.pixels(), Vec4::from);
-        FilteredTexture::of(Levels::Float(Filterable::new(plane, options.mip_filter, options.wrap)), options)
+        let levels = build_rgba_levels(plane, options.mip_filter, options.wrap);
+        FilteredTexture::of(Levels::Float(Filterable::from_levels(levels, options.mip_filter, options.wrap)), options)
     }
 
     /// A texture from 8-bit RGBA bytes as stored (row 0 at the top); `srgb`: the colour channels are
@@ -88,12 +89,22 @@ impl FilteredTexture {
     pub fn from_rgba8<'a>(image: impl Into<ImageRef<'a, [u8; 4]>>, srgb: bool, options: TextureOptions) -> Self {
         let image = image.into();
         let base = Rgba8Plane::from_top_rows(image.width(), image.height(), image.pixels(), srgb);
-        let float = build_levels(base.decode(), options.mip_filter, options.wrap);
+        let float = build_rgba_levels(base.decode(), options.mip_filter, options.wrap);
         let encoder = SrgbEncoder::new();
         let levels =
             std::iter::once(base).chain(float.iter().skip(1).map(|l| Rgba8Plane::encode(l, srgb, &encoder))).collect();
         let data = Filterable::from_levels(levels, options.mip_filter, options.wrap);
         FilteredTexture::of(Levels::Bytes(data), options)
+    }
+
+    /// A texture whose coarser levels come with it (a MIP-mapped file, or a file per level as
+    /// `glTexImage2D` takes them): `levels` are linear RGBA images (row 0 at the top), level 0 first, each
+    /// half the one before; the pyramid is completed down to 1 x 1 from the last one given.
+    pub fn from_levels(levels: &[Image<[f32; 4]>], options: TextureOptions) -> Self {
+        let plane = |i: &Image<[f32; 4]>| Plane::from_top_rows_with(i.width, i.height, &i.pixels, Vec4::from);
+        let mut planes: Vec<Plane<Vec4>> = levels[..levels.len() - 1].iter().map(plane).collect();
+        planes.extend(build_rgba_levels(plane(&levels[levels.len() - 1]), options.mip_filter, options.wrap));
+        FilteredTexture::of(Levels::Float(Filterable::from_levels(planes, options.mip_filter, options.wrap)), options)
     }
 
     fn of(data: Levels, options: TextureOptions) -> Self {

@@ -183,6 +183,26 @@ pub fn build_levels<S: Resample>(base: S, filter: MipFilter, wrap: [Wrap; 2]) ->
     }
 }
 
+/// Every level of an RGBA texture, built from its colour premultiplied by alpha (so a transparent texel's
+/// colour does not darken its opaque neighbours' average: no dark fringe at a cut-out's border), then stored
+/// straight again; level 0 is `base` itself. Opaque textures are built directly.
+pub fn build_rgba_levels(base: Plane<Vec4>, filter: MipFilter, wrap: [Wrap; 2]) -> Vec<Plane<Vec4>> {
+    if base.texels.par_iter().all(|t| t.w == 1.0) {
+        return build_levels(base, filter, wrap);
+    }
+    let premultiplied = base.texels.par_iter().map(|t| (t.truncate() * t.w).extend(t.w)).collect();
+    let mut levels = build_levels(Plane { texels: premultiplied, ..base }, filter, wrap);
+    for level in &mut levels[1..] {
+        level.texels.par_iter_mut().for_each(|t| {
+            // A sharpening kernel can take alpha to 0 or below: nothing to divide, no colour.
+            let colour = if t.w > 0.0 { t.truncate() / t.w } else { glam::Vec3::ZERO };
+            *t = colour.extend(t.w);
+        });
+    }
+    levels[0] = base;
+    levels
+}
+
 /// The MIP pyramid of linear RGBA pixels (an [`Image`] or a view of the caller's buffer, row 0 at the top),
 /// level 0 first and each level an image the same way up.
 pub fn pyramid<'a>(
@@ -197,7 +217,7 @@ pub fn pyramid<'a>(
 /// [`pyramid`] from texels already in a plane.
 pub(crate) fn pyramid_of(base: Plane<Vec4>, filter: MipFilter, wrap: [Wrap; 2]) -> Vec<Image<[f32; 4]>> {
     // Each plane goes as soon as its image is made: the pyramid is held about once, not twice.
-    build_levels(base, filter, wrap).into_iter().map(|level| level.to_image()).collect()
+    build_rgba_levels(base, filter, wrap).into_iter().map(|level| level.to_image()).collect()
 }
 
 /// How the level is chosen from the footprint.
@@ -295,6 +315,29 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A red cut-out on transparent black: straight averaging darkens the border's colour towards black;
+    /// built premultiplied, every level keeps the red of the texels that are there, alpha their coverage.
+    #[test]
+    fn transparent_texels_do_not_darken_a_cut_outs_levels() {
+        let texels = (0..64).map(|i| if (i % 8) < 3 { Vec4::new(1.0, 0.2, 0.1, 1.0) } else { Vec4::ZERO }).collect();
+        let base = Plane { width: 8, height: 8, texels };
+        let levels = build_rgba_levels(base.clone(), MipFilter::Box, [Wrap::Repeat; 2]);
+        assert_eq!(levels[0], base);
+        for level in &levels[1..] {
+            // Where nothing is there (alpha 0) there is no colour either.
+            for t in level.texels.iter().filter(|t| t.w > 0.0) {
+                assert!((t.truncate() - glam::Vec3::new(1.0, 0.2, 0.1)).abs().max_element() < 1e-6, "{t:?}");
+            }
+        }
+        // Level 1 holds columns 0-1 (opaque), 2-3 (half), 4-5 and 6-7 (none): alpha is the coverage.
+        let alpha: Vec<f32> = levels[1].texels[..4].iter().map(|t| t.w).collect();
+        assert_eq!(alpha, [1.0, 0.5, 0.0, 0.0]);
+        // Opaque textures are built as before, to the bit.
+        let opaque = Plane { width: 8, height: 8, texels: (0..64).map(|i| Vec4::new(i as f32 / 64.0, 0.5, 0.2, 1.0)).collect() };
+        let straight = build_levels(opaque.clone(), MipFilter::Box, [Wrap::Repeat; 2]);
+        assert_eq!(build_rgba_levels(opaque, MipFilter::Box, [Wrap::Repeat; 2]), straight);
     }
 
     #[test]

@@ -27,5 +27,6 @@ mod scene_robustness;
 mod shadows;
 mod spot_lights;
 mod texel_location;
+mod texture_files;
 mod transparency;
 mod transparent_background;
