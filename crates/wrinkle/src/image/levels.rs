@@ -45,7 +45,14 @@ pub fn check_chain(path: &Path, levels: &[Image<[f32; 4]>]) -> Result<()> {
         if !halves(a.width, b.width) || !halves(a.height, b.height) {
             return Err(Error::read(
                 path,
-                format!("level {} is {}x{}, not half of level {k}'s {}x{}", k + 1, b.width, b.height, a.width, a.height),
+                format!(
+                    "level {} is {}x{}, not half of level {k}'s {}x{}",
+                    k + 1,
+                    b.width,
+                    b.height,
+                    a.width,
+                    a.height
+                ),
             ));
         }
     }
@@ -128,7 +135,9 @@ fn read_tiff_levels(path: &Path, srgb: bool) -> Result<Option<FileLevels>> {
             tiff::ColorType::GrayA(_) => 2,
             tiff::ColorType::RGB(_) => 3,
             tiff::ColorType::RGBA(_) => 4,
-            other => return Err(Error::read(path, format!("a TIFF level of {other:?} texels; expected grey, RGB or RGBA"))),
+            other => {
+                return Err(Error::read(path, format!("a TIFF level of {other:?} texels; expected grey, RGB or RGBA")))
+            }
         };
         alpha |= channels % 2 == 0;
         let colour = |v: f32| if srgb { srgb_to_linear(v) } else { v };
@@ -138,7 +147,13 @@ fn read_tiff_levels(path: &Path, srgb: bool) -> Result<Option<FileLevels>> {
             DecodingResult::F32(v) => v,
             _ => return Err(Error::read(path, "a TIFF level of samples other than 8-bit, 16-bit or float")),
         };
-        let float = matches!(decoder.colortype().map_err(tiff_error)?, tiff::ColorType::Gray(32) | tiff::ColorType::GrayA(32) | tiff::ColorType::RGB(32) | tiff::ColorType::RGBA(32));
+        let float = matches!(
+            decoder.colortype().map_err(tiff_error)?,
+            tiff::ColorType::Gray(32)
+                | tiff::ColorType::GrayA(32)
+                | tiff::ColorType::RGB(32)
+                | tiff::ColorType::RGBA(32)
+        );
         let colour = |v: f32| if float { v } else { colour(v) };
         if samples.len() != w * h * channels {
             return Err(Error::read(path, "a TIFF level with the wrong number of samples"));
@@ -219,7 +234,11 @@ pub fn write_tiff_levels(path: &Path, levels: &[Image<[f32; 4]>], samples: TiffS
                     // A whole tile, padded with zeros beyond the image (as TIFF requires).
                     let texel = |x: usize, y: usize| -> [f32; 4] {
                         let (x, y) = (tx * TILE + x, ty * TILE + y);
-                        if x < w && y < h { level.pixels[y * w + x] } else { [0.0; 4] }
+                        if x < w && y < h {
+                            level.pixels[y * w + x]
+                        } else {
+                            [0.0; 4]
+                        }
                     };
                     let encode = |p: [f32; 4], c: usize| {
                         let v = if c < 3 && samples == TiffSamples::Srgb8 { linear_to_srgb(p[c]) } else { p[c] };
@@ -242,7 +261,9 @@ pub fn write_tiff_levels(path: &Path, levels: &[Image<[f32; 4]>], samples: TiffS
                             dir.write_data(&tile[..]).map_err(failed)?
                         }
                     };
-                    offsets.push(u32::try_from(offset).map_err(|_| Error::write(path, "over 4 GiB: too large for a TIFF"))?);
+                    offsets.push(
+                        u32::try_from(offset).map_err(|_| Error::write(path, "over 4 GiB: too large for a TIFF"))?,
+                    );
                 }
             }
             let bits = match samples {
@@ -282,7 +303,9 @@ mod tests {
     use crate::texture::{MipFilter, Wrap};
 
     fn source() -> Image<[f32; 4]> {
-        Image::from_fn(37, 20, |x, y| [x as f32 / 37.0, y as f32 / 20.0, ((x * y) % 7) as f32 / 7.0, 0.5 + 0.01 * x as f32])
+        Image::from_fn(37, 20, |x, y| {
+            [x as f32 / 37.0, y as f32 / 20.0, ((x * y) % 7) as f32 / 7.0, 0.5 + 0.01 * x as f32]
+        })
     }
 
     /// Written and read back: every level, the EXR exactly, the TIFF to its 8- or 16-bit step.

@@ -181,7 +181,9 @@ fn level_files(f: &Fields, base: &Path) -> Result<Vec<PathBuf>> {
         .enumerate()
         .map(|(k, name)| {
             let at = format!("{}[{k}]", f.at("levels"));
-            let name = name.as_str().ok_or_else(|| Error::scene(&at, format!("expected a file name, got {}", describe(name))))?;
+            let name = name
+                .as_str()
+                .ok_or_else(|| Error::scene(&at, format!("expected a file name, got {}", describe(name))))?;
             resolve(base, &at, name)
         })
         .collect()

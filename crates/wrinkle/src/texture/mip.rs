@@ -185,21 +185,23 @@ pub fn build_levels<S: Resample>(base: S, filter: MipFilter, wrap: [Wrap; 2]) ->
 
 /// Every level of an RGBA texture, built from its colour premultiplied by alpha (so a transparent texel's
 /// colour does not darken its opaque neighbours' average: no dark fringe at a cut-out's border), then stored
-/// straight again; level 0 is `base` itself. Opaque textures are built directly.
+/// straight again; where nothing is there (alpha 0) the level keeps the plain average of the stored colours,
+/// as level 0 keeps the file's. Level 0 is `base` itself; opaque textures are built directly.
 pub fn build_rgba_levels(base: Plane<Vec4>, filter: MipFilter, wrap: [Wrap; 2]) -> Vec<Plane<Vec4>> {
     if base.texels.par_iter().all(|t| t.w == 1.0) {
         return build_levels(base, filter, wrap);
     }
     let premultiplied = base.texels.par_iter().map(|t| (t.truncate() * t.w).extend(t.w)).collect();
-    let mut levels = build_levels(Plane { texels: premultiplied, ..base }, filter, wrap);
-    for level in &mut levels[1..] {
-        level.texels.par_iter_mut().for_each(|t| {
-            // A sharpening kernel can take alpha to 0 or below: nothing to divide, no colour.
-            let colour = if t.w > 0.0 { t.truncate() / t.w } else { glam::Vec3::ZERO };
-            *t = colour.extend(t.w);
+    let weighted = build_levels(Plane { texels: premultiplied, ..base }, filter, wrap);
+    let mut levels = build_levels(base, filter, wrap);
+    for (level, weighted) in levels[1..].iter_mut().zip(&weighted[1..]) {
+        level.texels.par_iter_mut().zip(&weighted.texels).for_each(|(t, w)| {
+            // A sharpening kernel can take alpha to 0 or below: nothing to divide, the plain average stays.
+            if w.w > 0.0 {
+                *t = (w.truncate() / w.w).extend(w.w);
+            }
         });
     }
-    levels[0] = base;
     levels
 }
 
@@ -326,7 +328,7 @@ mod tests {
         let levels = build_rgba_levels(base.clone(), MipFilter::Box, [Wrap::Repeat; 2]);
         assert_eq!(levels[0], base);
         for level in &levels[1..] {
-            // Where nothing is there (alpha 0) there is no colour either.
+            // Where nothing is there (alpha 0) the colour is the plain average of what is stored: black here.
             for t in level.texels.iter().filter(|t| t.w > 0.0) {
                 assert!((t.truncate() - glam::Vec3::new(1.0, 0.2, 0.1)).abs().max_element() < 1e-6, "{t:?}");
             }
@@ -335,7 +337,8 @@ mod tests {
         let alpha: Vec<f32> = levels[1].texels[..4].iter().map(|t| t.w).collect();
         assert_eq!(alpha, [1.0, 0.5, 0.0, 0.0]);
         // Opaque textures are built as before, to the bit.
-        let opaque = Plane { width: 8, height: 8, texels: (0..64).map(|i| Vec4::new(i as f32 / 64.0, 0.5, 0.2, 1.0)).collect() };
+        let opaque =
+            Plane { width: 8, height: 8, texels: (0..64).map(|i| Vec4::new(i as f32 / 64.0, 0.5, 0.2, 1.0)).collect() };
         let straight = build_levels(opaque.clone(), MipFilter::Box, [Wrap::Repeat; 2]);
         assert_eq!(build_rgba_levels(opaque, MipFilter::Box, [Wrap::Repeat; 2]), straight);
     }

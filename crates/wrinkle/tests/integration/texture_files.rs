@@ -25,7 +25,11 @@ fn frame(scene: &str, dir: &Path) -> Vec<u8> {
     let scene = Scene::parse(scene, dir).unwrap_or_else(|e| panic!("{e}"));
     let options = RenderOptions { width: 160, height: 120, ..Default::default() };
     let colour = render(&scene, &options).unwrap().color;
-    colour.iter().flat_map(|c| *c).map(|c| (wrinkle::image::color::linear_to_srgb(c).clamp(0.0, 1.0) * 255.0).round() as u8).collect()
+    colour
+        .iter()
+        .flat_map(|c| *c)
+        .map(|c| (wrinkle::image::color::linear_to_srgb(c).clamp(0.0, 1.0) * 255.0).round() as u8)
+        .collect()
 }
 
 /// A 64 x 32 texture of coloured tiles, as 8-bit sRGB bytes.
@@ -42,11 +46,7 @@ fn mip_mapped_files_render_as_their_flat_source() {
     let source = tiles();
     let bytes: Vec<u8> = source.pixels.iter().flatten().copied().collect();
     write_png_rgba8(&dir.join("tiles.png"), 64, 32, &bytes).unwrap();
-    let linear = Image {
-        width: 64,
-        height: 32,
-        pixels: wrinkle::image::color::decode_rgba8(&source.pixels, true),
-    };
+    let linear = Image { width: 64, height: 32, pixels: wrinkle::image::color::decode_rgba8(&source.pixels, true) };
     let levels = pyramid(&linear, MipFilter::Box, [Wrap::Repeat; 2]);
     write_exr_levels(&dir.join("tiles.exr"), &levels).unwrap();
     write_tiff_levels(&dir.join("tiles.tif"), &levels, TiffSamples::Srgb8).unwrap();
@@ -79,7 +79,8 @@ fn levels_given_one_file_each_are_the_ones_read() {
     let got = frame(&floor(&levels), &dir);
     let flat = frame(&floor("{ path = \"tiles.png\", repeat = [2, 10] }"), &dir);
     // The far rows (minified: levels 1 and beyond) turn red; the near ones (level 0) are the tiles.
-    let pixel = |f: &[u8], x: usize, y: usize| [f[3 * (y * 160 + x)], f[3 * (y * 160 + x) + 1], f[3 * (y * 160 + x) + 2]];
+    let pixel =
+        |f: &[u8], x: usize, y: usize| [f[3 * (y * 160 + x)], f[3 * (y * 160 + x) + 1], f[3 * (y * 160 + x) + 2]];
     let red = |f: &[u8]| (0..160).map(|x| pixel(f, x, 62)).filter(|p| p[0] > 200 && p[1] < 10 && p[2] < 10).count();
     assert!(red(&got) > 20, "{} red pixels far away", red(&got));
     assert_eq!(red(&flat), 0, "the rebuilt pyramid has no pure red");
