@@ -10,6 +10,7 @@ use std::collections::BTreeSet;
 use std::fs;
 use std::path::Path;
 
+use glam::DVec3;
 use wrinkle::image::io::{read_exr_channels, Placement};
 
 /// Small images keep every render fast.
@@ -555,6 +556,127 @@ fn filters_writes_a_labelled_sheet_and_a_table_of_errors() {
     // The truth's noise floor lies far above the best filter's error.
     assert!(psnr("truth, seed 1") > 45.0 && psnr("truth, seed 1") > psnr("ewa") + 10.0, "{}", run.stdout);
     assert_eq!(s.out_entries(), ["sheet.png"]);
+}
+
+/// The sheet's printed PSNRs against a ground truth computed here, independently of the renderer: each
+/// pixel of a textured floor receding in perspective integrated over its square by 16 x 16 rays in f64,
+/// each reading the bilinear checker at its own exact (u,v). Every filter's PSNR as `filters` prints it
+/// (against its own 256-sample truth) must agree with the PSNR of the same render against this truth.
+#[test]
+fn filters_psnrs_agree_with_an_independent_ground_truth() {
+    let s = Scratch::new("filters_truth");
+    // A 64 x 64 checker of 8-texel checks, two sRGB colours.
+    let (n, colours) = (64usize, [[230u8, 40, 40], [30, 60, 200]]);
+    let check = |x: usize, y: usize| colours[(x / 8 + y / 8) % 2];
+    let bytes: Vec<u8> = (0..n * n).flat_map(|k| check(k % n, k / n)).collect();
+    let texture = s.input("checks.png");
+    wrinkle::image::io::write_png8(Path::new(&texture), n, n, 3, &bytes).unwrap();
+    let scene = s.write_input(
+        "floor.toml",
+        format!(
+            "[camera]\neye = [0.0, 0.6, 3.0]\nlook_at = [0.0, 0.0, 0.0]\nfov_y = 40.0\nbackground = [0.0, 0.0, 0.0]\n\n\
+             [[light]]\ntype = \"ambient\"\nintensity = 1.0\n\n[[object]]\nshape = \"patch\"\n\
+             corners = [[-1.0, -0.5, 1.0], [1.0, -0.5, 1.0], [1.0, -0.5, -9.0], [-1.0, -0.5, -9.0]]\n\
+             material = {{ color = [1.0, 1.0, 1.0], texture = {{ path = \"{}\", repeat = [2, 10] }} }}\n",
+            texture.replace('\\', "/")
+        ),
+    );
+    let (w, h) = (96usize, 72usize);
+    let filters = ["bilinear", "trilinear", "aniso", "ewa"];
+    let run = wrinkle(&[
+        "filters",
+        &scene,
+        "-o",
+        &s.out("sheet.png"),
+        "--width",
+        &w.to_string(),
+        "--height",
+        &h.to_string(),
+        "--filters",
+        &filters.join(","),
+        "--json",
+    ]);
+    assert_ok(&run);
+
+    // The truth: the camera's rays (y down), the floor y = -0.5 with u along +x, v away from the eye.
+    let (eye, target) = (DVec3::new(0.0, 0.6, 3.0), DVec3::ZERO);
+    let fwd = (target - eye).normalize();
+    let right = fwd.cross(DVec3::Y).normalize();
+    let up = right.cross(fwd);
+    let scale = 0.5 * h as f64 / (20f64).to_radians().tan();
+    let linear = |c: u8| {
+        let c = c as f64 / 255.0;
+        if c <= 0.04045 {
+            c / 12.92
+        } else {
+            ((c + 0.055) / 1.055).powf(2.4)
+        }
+    };
+    // Texel (i, j), j counted from the bottom (row n - 1 - j of the image), repeating.
+    let texel = |i: i64, j: i64| {
+        let (i, j) = (i.rem_euclid(n as i64) as usize, j.rem_euclid(n as i64) as usize);
+        check(i, n - 1 - j).map(linear)
+    };
+    let bilinear = |s: f64, t: f64| {
+        let (x, y) = (s * n as f64 - 0.5, t * n as f64 - 0.5);
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let (i, j) = (x0 as i64, y0 as i64);
+        let mut c = [0.0; 3];
+        for (di, dj, wgt) in
+            [(0, 0, (1.0 - fx) * (1.0 - fy)), (1, 0, fx * (1.0 - fy)), (0, 1, (1.0 - fx) * fy), (1, 1, fx * fy)]
+        {
+            let t = texel(i + di, j + dj);
+            for k in 0..3 {
+                c[k] += wgt * t[k];
+            }
+        }
+        c
+    };
+    let k = 16;
+    let truth: Vec<[f64; 3]> = (0..w * h)
+        .map(|p| {
+            let (px, py) = ((p % w) as f64, (p / w) as f64);
+            let mut sum = [0.0; 3];
+            for q in 0..k * k {
+                let (x, y) = (px + ((q % k) as f64 + 0.5) / k as f64, py + ((q / k) as f64 + 0.5) / k as f64);
+                let dir = fwd + right * ((x - 0.5 * w as f64) / scale) + up * ((0.5 * h as f64 - y) / scale);
+                if dir.y >= 0.0 {
+                    continue;
+                }
+                let hit = eye + dir * ((-0.5 - eye.y) / dir.y);
+                let (u, v) = ((hit.x + 1.0) / 2.0, (1.0 - hit.z) / 10.0);
+                if !(0.0..=1.0).contains(&u) || !(0.0..=1.0).contains(&v) {
+                    continue;
+                }
+                let c = bilinear(2.0 * u, 10.0 * v);
+                for c3 in 0..3 {
+                    sum[c3] += c[c3] / (k * k) as f64;
+                }
+            }
+            sum
+        })
+        .collect();
+
+    let mut scene_data = wrinkle::Scene::load(Path::new(&scene)).unwrap();
+    for name in filters {
+        scene_data.set_texture_filter(wrinkle::texture::Filter::parse(name).unwrap());
+        let options = wrinkle::RenderOptions { width: w, height: h, ..Default::default() };
+        let frame = wrinkle::render(&scene_data, &options).unwrap();
+        let sum: f64 = frame
+            .color
+            .iter()
+            .zip(&truth)
+            .map(|(a, b)| (0..3).map(|c| (a[c] as f64 - b[c]).powi(2)).sum::<f64>() / 3.0)
+            .sum();
+        let independent = -20.0 * (sum / (w * h) as f64).sqrt().log10();
+        let printed = json_psnr(&run.stdout, name);
+        eprintln!("{name}: printed {printed:.2} dB, independent {independent:.2} dB");
+        assert!(
+            (printed - independent).abs() < 0.5,
+            "{name}: printed {printed:.2} dB, independent {independent:.2} dB"
+        );
+    }
 }
 
 /// `filters --bump`: the bump filters against the supersampled intensities; MIP filtering the table scores
