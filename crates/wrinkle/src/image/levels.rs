@@ -342,6 +342,33 @@ mod tests {
                 }
             }
         }
+        // A RIPMAP gives its diagonal: level k reduced k times on both axes (each level a constant k here).
+        let size = exr::math::Vec2(16usize, 8usize);
+        let rip: Vec<(exr::math::Vec2<usize>, exr::math::Vec2<usize>)> =
+            exr::meta::rip_map_levels(exr::math::RoundingMode::Down, size).collect();
+        let count = exr::math::Vec2(
+            rip.iter().map(|(i, _)| i.0).max().unwrap() + 1,
+            rip.iter().map(|(i, _)| i.1).max().unwrap() + 1,
+        );
+        let channel = |name: &str| {
+            let map_data = rip
+                .iter()
+                .map(|(index, s)| FlatSamples::F32(vec![(index.0 * 10 + index.1) as f32; s.area()]))
+                .collect();
+            let level_data = exr::image::RipMaps { map_data, level_count: count };
+            AnyChannel::new(name, Levels::Rip { level_data, rounding_mode: exr::math::RoundingMode::Down })
+        };
+        let channels = AnyChannels::sort(vec![channel("R"), channel("G"), channel("B")].into());
+        let encoding = Encoding { blocks: Blocks::Tiles(exr::math::Vec2(8, 8)), ..Encoding::SMALL_LOSSLESS };
+        let layer = Layer::new((16, 8), LayerAttributes::default(), encoding, channels);
+        let ripmap = dir.join("rip.exr");
+        exr::prelude::Image::from_layer(layer).write().to_file(&ripmap).unwrap();
+        let back = read_levels(&ripmap, false).unwrap().expect("a RIPMAP");
+        let sizes: Vec<(usize, usize)> = back.levels.iter().map(|l| (l.width, l.height)).collect();
+        assert_eq!(sizes, [(16, 8), (8, 4), (4, 2), (2, 1)]);
+        for (k, level) in back.levels.iter().enumerate() {
+            assert!(level.pixels.iter().all(|p| p[0] == (k * 11) as f32 && p[3] == 1.0), "level {k}");
+        }
         // A file of one resolution has no levels to give.
         let flat = dir.join("flat.exr");
         crate::image::io::write_exr(&flat, 2, 2, &[("R", &[0.0; 4]), ("G", &[0.0; 4]), ("B", &[0.0; 4])]).unwrap();

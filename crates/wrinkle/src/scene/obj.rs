@@ -50,8 +50,9 @@ pub fn load(path: &Path) -> Result<Vec<ModelPart>> {
     .map_err(|e| Error::read(path, obj_error(&e)))?;
     let materials = match materials {
         Ok(m) => m,
-        // A missing .mtl is an error only when a face asks for one of its materials.
-        Err(_) if models.iter().all(|m| m.mesh.material_id.is_none()) => Vec::new(),
+        // A missing .mtl is an error only when a face asks for one of its materials; a malformed one always
+        // (tobj then leaves every face without its material, which would render silently grey).
+        Err(tobj::LoadError::OpenFileFailed) if models.iter().all(|m| m.mesh.material_id.is_none()) => Vec::new(),
         Err(e) => {
             let why = library_problem.take().unwrap_or_else(|| obj_error(&e));
             return Err(Error::read(path, format!("its material library: {why}")));

@@ -196,3 +196,55 @@ fn lean_filters_offset_maps_normal_maps_and_procedural_bumps() {
         assert!(lean < 0.8 * plain, "{what}: lean {lean} vs plain {plain}");
     }
 }
+
+/// On a mesh (an OBJ floor with an .mtl bump map, Pu and Pv from each triangle's uv gradients) as on the
+/// parametric patches: LEAN comes closer to the supersampled intensities than the MIP-filtered bump.
+#[test]
+fn lean_filters_bumps_on_meshes() {
+    let dir = crate::common::scratch_dir("lean-mesh");
+    // Grooves across u: a raised cosine two texels wide in every eight, 64 x 64, 16-bit grey.
+    let n = 64usize;
+    let groove = |i: usize| {
+        let x = (i % 8) as f32 - 3.5;
+        if x.abs() < 2.0 {
+            0.5 + 0.5 * (std::f32::consts::PI * x / 2.0).cos()
+        } else {
+            0.0
+        }
+    };
+    let grey = wrinkle::Image { width: n, height: n, pixels: (0..n * n).map(|k| groove(k % n)).collect::<Vec<f32>>() };
+    wrinkle::image::io::write_png_grey16(&dir.join("grooves.png"), &grey).unwrap();
+    std::fs::write(
+        dir.join("floor.mtl"),
+        "newmtl m\nKd 0.45 0.45 0.5\nKs 0.8 0.8 0.8\nNs 80\nbump -bm 1.5 grooves.png\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("floor.obj"),
+        "mtllib floor.mtl\nusemtl m\nv -1 -0.5 1\nv 1 -0.5 1\nv 1 -0.5 -9\nv -1 -0.5 -9\n\
+         vt 0 0\nvt 4 0\nvt 4 20\nvt 0 20\nvn 0 1 0\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n",
+    )
+    .unwrap();
+    let scene = format!(
+        "[camera]\neye = [0.0, 0.6, 3.0]\nlook_at = [0.0, 0.0, 0.0]\nfov_y = 40.0\n\n\
+         [[light]]\ntype = \"directional\"\ndirection = [0.1, -0.3, 1.0]\nintensity = 1.0\n\n\
+         [[object]]\nshape = \"mesh\"\nfile = \"{}\"\n",
+        dir.join("floor.obj").display().to_string().replace('\\', "/")
+    );
+    let scene = Scene::parse(&scene, &dir).unwrap();
+    let image = |filter: &str, spp: usize| {
+        let options = RenderOptions {
+            width: 200,
+            height: 150,
+            spp,
+            sampler: Sampler::Sobol,
+            bump_filter: BumpFilter::parse(filter),
+            ..Default::default()
+        };
+        render(&scene, &options).unwrap().color.iter().map(|c| (c[0] + c[1] + c[2]) / 3.0).collect::<Vec<f32>>()
+    };
+    let truth = image("none", 64);
+    let (mip, lean) = (rmse(&image("mip", 1), &truth), rmse(&image("lean:ewa", 1), &truth));
+    eprintln!("mesh: mip {mip:.4}, lean:ewa {lean:.4}");
+    assert!(lean < 0.8 * mip, "mesh: lean {lean} vs mip {mip}");
+}
