@@ -152,12 +152,12 @@ impl BumpMap {
     }
 
     /// The covariance of a procedural bump's (Fu, Fv) over the pixel: E[g g^T] from the gradient at the
-    /// pixel's four quarters (each band-limited to its quarter), less the filtered mean's square (the band
-    /// limiting keeps the mean; the octaves it drops are what spreads the normals).
+    /// centres of the pixel's four quarters (each band-limited to an eighth of the pixel, so the octaves the
+    /// pixel's own band limiting drops are there), less the filtered mean's square.
     fn procedural_spread(&self, p: &Procedural, ctx: &LookupContext, mean: Gradient) -> Spread {
         let mut second = [0.0f32; 3];
         let fp = &ctx.footprint;
-        let half =
+        let eighth =
             Footprint { dudx: 0.125 * fp.dudx, dvdx: 0.125 * fp.dvdx, dudy: 0.125 * fp.dudy, dvdy: 0.125 * fp.dvdy };
         for (a, b) in [(-0.25, -0.25), (0.25, -0.25), (-0.25, 0.25), (0.25, 0.25)] {
             let at = LookupContext {
@@ -165,7 +165,7 @@ impl BumpMap {
                 uv: ctx.uv + Vec2::new(a * fp.dudx + b * fp.dudy, a * fp.dvdx + b * fp.dvdy),
                 dpdx: 0.125 * ctx.dpdx,
                 dpdy: 0.125 * ctx.dpdy,
-                footprint: half,
+                footprint: eighth,
                 ..*ctx
             };
             let g = self.procedural(p, &at);

@@ -615,6 +615,10 @@ fn parse_displacement(path: &str, v: &Value, base: &Path) -> Result<Displacement
         source.remove(*key);
     }
     let mut map = parse_bump(path, &Value::Table(source), base)?;
+    if map.slopes != SlopeFilter::Plain {
+        // The displaced surface has its own normals: there is no spread of bump normals to filter.
+        return Err(Error::scene(f.at("filter"), "LEAN and Toksvig filter bumps, not displacements"));
+    }
     map.formula = BumpFormula::Full;
     let silhouette = f.choice("mode", false, &[("full", false), ("silhouette", true)])?;
     let in_unit = |x: f32| x > 0.0 && x <= 1.0;

@@ -118,7 +118,22 @@ fn fields_of_another_variant_are_errors_everywhere() {
         ),
         (
             "{ bump = { procedural = { pattern = \"fbm\" }, filter = \"ewa\" } }",
-            "objects[0].material.bump.filter: applies to bump tables (map or generator) only",
+            "objects[0].material.bump.filter: a procedural bump filters its own octaves: only \"lean\" or \"toksvig\" \
+             apply, got \"ewa\"",
+        ),
+        (
+            "{ bump = { generator = { kind = \"grid\" }, filter = \"lean:fancy\" } }",
+            "objects[0].material.bump.filter: expected one of none, mip, nearest, bilinear, bicubic, bspline, gaussian, \
+             lanczos, mip-nearest, trilinear, ripmap, sat, aniso, ewa, reference, catmull-rom, lean, toksvig, \
+             lean:FILTER, toksvig:FILTER, got \"lean:fancy\"",
+        ),
+        (
+            "{ displacement = { generator = { kind = \"grid\" }, filter = \"lean\" } }",
+            "objects[0].material.displacement.filter: LEAN and Toksvig filter bumps, not displacements",
+        ),
+        (
+            "{ texture = { path = \"tiles_color.png\", levels = \"tiles_color.png\" } }",
+            "objects[0].material.texture.levels: expected a list of file names (level 1 first), got \"tiles_color.png\"",
         ),
         (
             "{ bump = { procedural = { pattern = \"fbm\" }, interp = \"nearest\" } }",
@@ -132,6 +147,7 @@ fn fields_of_another_variant_are_errors_everywhere() {
         assert_eq!(error_of(&object(material)), want, "{material}");
     }
     parses(&object("{ bump = { procedural = { pattern = \"fbm\", space = \"uv\" }, repeat = [4, 4] } }"));
+    parses(&object("{ bump = { procedural = { pattern = \"fbm\" }, filter = \"toksvig\" } }"));
     parses(&object("{ texture = { procedural = \"wood\", rings = 8, strength = 0.2, seed = 3 } }"));
 }
 
