@@ -45,9 +45,18 @@ def test_mipmap_levels_are_box_averages():
     levels = wrinkle.Texture(pixels, mip_filter="box").mipmap()
     assert [l.shape for l in levels] == [(32, 16, 4), (16, 8, 4), (8, 4, 4), (4, 2, 4), (2, 1, 4), (1, 1, 4)]
     assert np.allclose(levels[0], pixels)
-    box = pixels.reshape(16, 2, 8, 2, 4).mean(axis=(1, 3))
-    assert np.allclose(levels[1], box, atol=1e-6)
-    assert np.allclose(levels[-1][0, 0], pixels.reshape(-1, 4).mean(axis=0), atol=1e-5)
+    # With alpha, colour is averaged weighted by alpha (premultiplied) and stored straight; alpha is the box.
+    blocks = pixels.reshape(16, 2, 8, 2, 4)
+    alpha = blocks[..., 3:].mean(axis=(1, 3))
+    colour = (blocks[..., :3] * blocks[..., 3:]).mean(axis=(1, 3)) / alpha
+    assert np.allclose(levels[1], np.concatenate([colour, alpha], axis=-1), atol=1e-5)
+    flat = pixels.reshape(-1, 4)
+    top = np.append((flat[:, :3] * flat[:, 3:]).mean(axis=0) / flat[:, 3].mean(), flat[:, 3].mean())
+    assert np.allclose(levels[-1][0, 0], top, atol=1e-5)
+    # Opaque: the plain box average.
+    pixels[..., 3] = 1.0
+    levels = wrinkle.Texture(pixels, mip_filter="box").mipmap()
+    assert np.allclose(levels[1], pixels.reshape(16, 2, 8, 2, 4).mean(axis=(1, 3)), atol=1e-6)
 
 
 def test_srgb_bytes_are_decoded_to_linear():
