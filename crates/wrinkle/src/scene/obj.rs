@@ -20,18 +20,27 @@ use std::sync::Arc;
 
 /// A .mtl file for tobj, with what tobj does not check first: it must be a regular file (a library at
 /// /dev/zero would be read forever), and Ka, Kd, Ks and Ke need three numbers (tobj panics on fewer).
-fn read_library(file: &Path) -> std::result::Result<tobj::MTLLoadResult, String> {
-    io::check_input(file).map_err(|e| e.to_string())?;
-    let text = std::fs::read_to_string(file).map_err(|e| format!("{}: {e}", file.display()))?;
+fn read_library(file: &Path) -> std::result::Result<tobj::MTLLoadResult, LibraryProblem> {
+    let missing = |message: String| LibraryProblem { message, malformed: false };
+    io::check_input(file).map_err(|e| missing(e.to_string()))?;
+    let text = std::fs::read_to_string(file).map_err(|e| missing(format!("{}: {e}", file.display())))?;
     for (n, line) in text.lines().enumerate() {
         let mut words = line.split_whitespace();
         if let Some(key @ ("Ka" | "Kd" | "Ks" | "Ke")) = words.next() {
             if words.count() < 3 {
-                return Err(format!("{}: line {}: {key} needs three numbers", file.display(), n + 1));
+                let message = format!("{}: line {}: {key} needs three numbers", file.display(), n + 1);
+                return Err(LibraryProblem { message, malformed: true });
             }
         }
     }
     Ok(tobj::load_mtl_buf(&mut text.as_bytes()))
+}
+
+/// Why a material library was refused: missing or unreadable (an error only where a face needs it), or
+/// malformed (always an error).
+struct LibraryProblem {
+    message: String,
+    malformed: bool,
 }
 
 /// The meshes of an OBJ file, one per object and material, with the materials of its .mtl.
@@ -48,13 +57,17 @@ pub fn load(path: &Path) -> Result<Vec<ModelPart>> {
         })?
     })
     .map_err(|e| Error::read(path, obj_error(&e)))?;
+    // A malformed .mtl is always an error: tobj then leaves every face without its material, which would
+    // render silently grey.
+    let malformed = library_problem.borrow().as_ref().is_some_and(|p: &LibraryProblem| p.malformed);
     let materials = match materials {
         Ok(m) => m,
-        // A missing .mtl is an error only when a face asks for one of its materials; a malformed one always
-        // (tobj then leaves every face without its material, which would render silently grey).
-        Err(tobj::LoadError::OpenFileFailed) if models.iter().all(|m| m.mesh.material_id.is_none()) => Vec::new(),
+        // A missing .mtl is an error only when a face asks for one of its materials.
+        Err(tobj::LoadError::OpenFileFailed) if !malformed && models.iter().all(|m| m.mesh.material_id.is_none()) => {
+            Vec::new()
+        }
         Err(e) => {
-            let why = library_problem.take().unwrap_or_else(|| obj_error(&e));
+            let why = library_problem.take().map_or_else(|| obj_error(&e), |p| p.message);
             return Err(Error::read(path, format!("its material library: {why}")));
         }
     };

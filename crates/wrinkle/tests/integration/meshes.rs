@@ -159,6 +159,8 @@ fn broken_models_give_one_clear_line() {
     obj("garbage.obj", "v 0 0 zero\nf 1 2 3\n");
     obj("missing_texture.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nusemtl a\nf 1/1 2/1 3/1\n");
     obj("m.mtl", "newmtl a\nmap_Kd nowhere.png\n");
+    obj("short_ks.obj", "mtllib k.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl k\nf 1 2 3\n");
+    obj("k.mtl", "newmtl k\nKd 0.5 0.5 0.5\nKs 0.8\n");
     let png = png_of(&dir, [128, 128, 255]);
     let file = File { primitive: quad(None, false), matrix: None, material: "{}".into(), png: Some(png) };
     let glb = file.write(Layout::Binary, "").0;
@@ -174,6 +176,7 @@ fn broken_models_give_one_clear_line() {
         ("empty.obj", "no triangles"),
         ("garbage.obj", "malformed OBJ"),
         ("missing_texture.obj", "nowhere.png"),
+        ("short_ks.obj", "line 3: Ks needs three numbers"),
         ("truncated.glb", "malformed glTF"),
         ("not_json.gltf", "malformed glTF"),
         ("bad_index.glb", "out of range"),
