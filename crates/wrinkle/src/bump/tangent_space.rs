@@ -3,11 +3,11 @@
 //! MikkTSpace define it: N' = normalize(s x T + s y B + z N), s the strength (glTF's normalTexture.scale).
 
 use super::lean::{SlopeFilter, SlopeMoments};
-use super::normal_map::Convention;
+use super::normal_map::{decode_normal, Convention};
 use crate::lanes::{F8, LANES, V3};
 use crate::mapping::MappedTexture;
 use crate::texture::LookupContext8;
-use glam::{Vec2, Vec4};
+use glam::Vec2;
 use std::sync::OnceLock;
 
 pub struct TangentNormalMap {
@@ -18,7 +18,7 @@ pub struct TangentNormalMap {
     /// What the texture's filter does about the spread of the normals under a pixel (LEAN, Toksvig).
     pub slopes: SlopeFilter,
     /// The moments of the map's slopes (x/z, y/z), built on first use by LEAN or Toksvig filtering.
-    moments: OnceLock<Option<SlopeMoments>>,
+    moments: OnceLock<SlopeMoments>,
 }
 
 impl TangentNormalMap {
@@ -26,28 +26,17 @@ impl TangentNormalMap {
         TangentNormalMap { texture, strength, convention, slopes: SlopeFilter::Plain, moments: OnceLock::new() }
     }
 
-    /// The tangent-space vector of a texel, the convention's green applied.
-    #[inline]
-    fn decode(&self, c: Vec4) -> (f32, f32, f32) {
-        let y = match self.convention {
-            Convention::OpenGl => 2.0 * c.y - 1.0,
-            Convention::DirectX => 1.0 - 2.0 * c.y,
-        };
-        (2.0 * c.x - 1.0, y, 2.0 * c.z - 1.0)
-    }
-
     /// The covariance of the slopes (s x/z, s y/z) of eight samples' normals under their pixels, along the
     /// tangent and the bitangent; `None` for a procedural map (no image to take moments of).
     pub fn spread8(&self, ctx: &LookupContext8<'_>) -> Option<[F8; 3]> {
+        let image = self.texture.texture.image()?;
         let moments = self.moments.get_or_init(|| {
-            let image = self.texture.texture.image()?;
-            Some(SlopeMoments::of_texture(image, |c| {
-                let (x, y, z) = self.decode(c);
+            SlopeMoments::of_texture(image, |c| {
+                let [x, y, z] = decode_normal([c.x, c.y, c.z], self.convention);
                 // A texel below the surface (z <= 0) is read as the steepest slope the map can mean.
                 Vec2::new(x, y) / z.max(0.05)
-            }))
+            })
         });
-        let (moments, image) = (moments.as_ref()?, self.texture.texture.image()?);
         let (mapped, _) = self.texture.mapping.apply8(ctx);
         let (s, t) = (mapped.u.as_array_ref(), mapped.v.as_array_ref());
         let filter = &image.options().filter;

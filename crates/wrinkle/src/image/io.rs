@@ -152,12 +152,20 @@ pub fn load_texture_file(path: &Path, srgb: bool) -> Result<TextureFile> {
 
 /// A colour texture in linear light as RGBA f32: [`load_texels`] with 8-bit texels decoded too.
 pub fn load_rgba_linear(path: &Path, srgb: bool) -> Result<Image<[f32; 4]>> {
-    Ok(match load_texels(path, srgb)? {
-        Texels::Linear(image) => image,
-        Texels::Rgba8(image) => {
-            Image { width: image.width, height: image.height, pixels: super::color::decode_rgba8(&image.pixels, srgb) }
+    Ok(load_texels(path, srgb)?.into_linear(srgb))
+}
+
+impl Texels {
+    /// The texels in linear RGBA f32: 8-bit ones decoded (from sRGB with `srgb`), float ones as they are.
+    pub fn into_linear(self, srgb: bool) -> Image<[f32; 4]> {
+        match self {
+            Texels::Linear(image) => image,
+            Texels::Rgba8(image) => {
+                let pixels = super::color::decode_rgba8(&image.pixels, srgb);
+                Image { width: image.width, height: image.height, pixels }
+            }
         }
-    })
+    }
 }
 
 /// A grey 32-bit float TIFF (what GIMP and Krita write for a float height map), which the image crate

@@ -37,26 +37,22 @@ pub fn read_levels(path: &Path, srgb: bool) -> Result<Option<FileLevels>> {
     }
 }
 
-/// Checks that each level is its predecessor halved (rounded down or up, at least 1).
-pub fn check_chain(path: &Path, levels: &[Image<[f32; 4]>]) -> Result<()> {
-    for (k, pair) in levels.windows(2).enumerate() {
-        let halves = |big: usize, small: usize| small == (big / 2).max(1) || small == big.div_ceil(2).max(1);
-        let (a, b) = (&pair[0], &pair[1]);
-        if !halves(a.width, b.width) || !halves(a.height, b.height) {
-            return Err(Error::read(
-                path,
-                format!(
-                    "level {} is {}x{}, not half of level {k}'s {}x{}",
-                    k + 1,
-                    b.width,
-                    b.height,
-                    a.width,
-                    a.height
-                ),
-            ));
+/// Checks that each level (width, height) is its predecessor halved (rounded down or up, at least 1).
+pub fn check_chain(path: &Path, sizes: &[(usize, usize)]) -> Result<()> {
+    let halves = |big: usize, small: usize| small == (big / 2).max(1) || small == big.div_ceil(2).max(1);
+    for (k, pair) in sizes.windows(2).enumerate() {
+        let ((aw, ah), (bw, bh)) = (pair[0], pair[1]);
+        if !halves(aw, bw) || !halves(ah, bh) {
+            let message = format!("level {} is {bw}x{bh}, not half of level {k}'s {aw}x{ah}", k + 1);
+            return Err(Error::read(path, message));
         }
     }
     Ok(())
+}
+
+/// The (width, height) of each level.
+pub fn sizes(levels: &[Image<[f32; 4]>]) -> Vec<(usize, usize)> {
+    levels.iter().map(|l| (l.width, l.height)).collect()
 }
 
 fn read_exr_levels(path: &Path) -> Result<Option<FileLevels>> {
@@ -113,21 +109,34 @@ fn read_exr_levels(path: &Path) -> Result<Option<FileLevels>> {
             Image { width: w, height: h, pixels }
         })
         .collect();
-    check_chain(path, &levels)?;
+    check_chain(path, &sizes(&levels))?;
     Ok(Some(FileLevels { levels, alpha: a.is_some() }))
 }
 
 fn read_tiff_levels(path: &Path, srgb: bool) -> Result<Option<FileLevels>> {
     let tiff_error = |e: tiff::TiffError| Error::read(path, format!("malformed TIFF: {e}"));
     let Ok(mut decoder) = Decoder::new(BufReader::new(open_input(path)?)) else { return Ok(None) };
-    if !decoder.more_images() {
-        return Ok(None);
-    }
-    let mut levels = Vec::new();
-    let mut alpha = false;
+    // The images' sizes first (their directories only): pages that do not halve are a multi-page document,
+    // not a pyramid, and its first page is the texture; nothing of theirs is decoded here.
+    let mut sizes = Vec::new();
     loop {
         let (w, h) = decoder.dimensions().map_err(tiff_error)?;
-        let (w, h) = (w as usize, h as usize);
+        sizes.push((w as usize, h as usize));
+        if !decoder.more_images() {
+            break;
+        }
+        decoder.next_image().map_err(tiff_error)?;
+    }
+    if sizes.len() < 2 || check_chain(path, &sizes).is_err() {
+        return Ok(None);
+    }
+    let mut decoder = Decoder::new(BufReader::new(open_input(path)?)).map_err(tiff_error)?;
+    let mut levels = Vec::new();
+    let mut alpha = false;
+    for (k, &(w, h)) in sizes.iter().enumerate() {
+        if k > 0 {
+            decoder.next_image().map_err(tiff_error)?;
+        }
         check_size(w, h).map_err(|m| Error::read(path, m))?;
         limits::reserve((w * h) as u64 * 24, || format!("{}: decoding its {w}x{h} level", path.display()))?;
         let channels = match decoder.colortype().map_err(tiff_error)? {
@@ -140,21 +149,14 @@ fn read_tiff_levels(path: &Path, srgb: bool) -> Result<Option<FileLevels>> {
             }
         };
         alpha |= channels % 2 == 0;
-        let colour = |v: f32| if srgb { srgb_to_linear(v) } else { v };
-        let samples: Vec<f32> = match decoder.read_image().map_err(tiff_error)? {
-            DecodingResult::U8(v) => v.iter().map(|&x| x as f32 / 255.0).collect(),
-            DecodingResult::U16(v) => v.iter().map(|&x| x as f32 / 65535.0).collect(),
-            DecodingResult::F32(v) => v,
+        // Integer colour is sRGB where asked; float colour is linear.
+        let (samples, encoded): (Vec<f32>, bool) = match decoder.read_image().map_err(tiff_error)? {
+            DecodingResult::U8(v) => (v.iter().map(|&x| x as f32 / 255.0).collect(), srgb),
+            DecodingResult::U16(v) => (v.iter().map(|&x| x as f32 / 65535.0).collect(), srgb),
+            DecodingResult::F32(v) => (v, false),
             _ => return Err(Error::read(path, "a TIFF level of samples other than 8-bit, 16-bit or float")),
         };
-        let float = matches!(
-            decoder.colortype().map_err(tiff_error)?,
-            tiff::ColorType::Gray(32)
-                | tiff::ColorType::GrayA(32)
-                | tiff::ColorType::RGB(32)
-                | tiff::ColorType::RGBA(32)
-        );
-        let colour = |v: f32| if float { v } else { colour(v) };
+        let colour = |v: f32| if encoded { srgb_to_linear(v) } else { v };
         if samples.len() != w * h * channels {
             return Err(Error::read(path, "a TIFF level with the wrong number of samples"));
         }
@@ -168,14 +170,6 @@ fn read_tiff_levels(path: &Path, srgb: bool) -> Result<Option<FileLevels>> {
             })
             .collect();
         levels.push(Image { width: w, height: h, pixels });
-        if !decoder.more_images() {
-            break;
-        }
-        decoder.next_image().map_err(tiff_error)?;
-    }
-    // Pages that do not halve are a multi-page document, not a pyramid: its first page is the texture.
-    if check_chain(path, &levels).is_err() {
-        return Ok(None);
     }
     Ok(Some(FileLevels { levels, alpha }))
 }
@@ -270,11 +264,10 @@ pub fn write_tiff_levels(path: &Path, levels: &[Image<[f32; 4]>], samples: TiffS
                 TiffSamples::Srgb8 => 8u16,
                 TiffSamples::Linear16 => 16,
             };
-            let tag = |dir: &mut tiff::encoder::DirectoryEncoder<_, _>, t: Tag, v: u32| dir.write_tag(t, v);
             // NewSubfileType 1: a reduced-resolution version of the image before it.
-            tag(&mut dir, Tag::NewSubfileType, u32::from(k > 0)).map_err(failed)?;
-            tag(&mut dir, Tag::ImageWidth, w as u32).map_err(failed)?;
-            tag(&mut dir, Tag::ImageLength, h as u32).map_err(failed)?;
+            dir.write_tag(Tag::NewSubfileType, u32::from(k > 0)).map_err(failed)?;
+            dir.write_tag(Tag::ImageWidth, w as u32).map_err(failed)?;
+            dir.write_tag(Tag::ImageLength, h as u32).map_err(failed)?;
             dir.write_tag(Tag::BitsPerSample, &[bits; 4][..]).map_err(failed)?;
             dir.write_tag(Tag::Compression, 1u16).map_err(failed)?;
             dir.write_tag(Tag::PhotometricInterpretation, 2u16).map_err(failed)?;
@@ -283,8 +276,8 @@ pub fn write_tiff_levels(path: &Path, levels: &[Image<[f32; 4]>], samples: TiffS
             // The fourth sample is unassociated (straight) alpha.
             dir.write_tag(Tag::ExtraSamples, &[2u16][..]).map_err(failed)?;
             dir.write_tag(Tag::SampleFormat, &[1u16; 4][..]).map_err(failed)?;
-            tag(&mut dir, Tag::TileWidth, TILE as u32).map_err(failed)?;
-            tag(&mut dir, Tag::TileLength, TILE as u32).map_err(failed)?;
+            dir.write_tag(Tag::TileWidth, TILE as u32).map_err(failed)?;
+            dir.write_tag(Tag::TileLength, TILE as u32).map_err(failed)?;
             // Pixar's texture tags, which tell OpenImageIO (and PRMan) that the images are MIP levels.
             dir.write_tag(Tag::Unknown(PIXAR_TEXTUREFORMAT), "Plain Texture").map_err(failed)?;
             dir.write_tag(Tag::Unknown(PIXAR_WRAPMODES), "periodic,periodic").map_err(failed)?;

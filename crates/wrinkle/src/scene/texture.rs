@@ -8,8 +8,8 @@ use super::mapping::parse_mapping;
 use crate::bump::normal_map::Convention;
 use crate::bump::{BumpFilter, SlopeFilter, TangentNormalMap};
 use crate::image::color::decode_rgba8;
-use crate::image::levels::check_chain;
-use crate::image::{indexed, io, Image};
+use crate::image::levels::{check_chain, sizes};
+use crate::image::{indexed, io};
 use crate::limits;
 use crate::mapping::{MappedTexture, Mapping};
 use crate::texture::colour_table::{IndexedTexture, LutTexture};
@@ -268,11 +268,11 @@ pub fn load_texture_levels(
             return Err(Error::read(level, "a level given on its own must be one image, not MIP-mapped"));
         }
         alpha |= given.alpha;
-        levels.push(linear(given.texels, srgb));
+        levels.push(given.texels.into_linear(srgb));
     }
     if !levels.is_empty() {
-        levels.insert(0, linear(texels, srgb));
-        check_chain(file, &levels)?;
+        levels.insert(0, texels.into_linear(srgb));
+        check_chain(file, &sizes(&levels))?;
         let texels: usize = levels.iter().map(|l| l.width * l.height).sum();
         limits::reserve(texels as u64 * 32, || format!("{}: its {} given levels", file.display(), levels.len()))?;
         return Ok((FilteredTexture::from_levels(&levels, options), alpha));
@@ -296,16 +296,6 @@ pub fn load_texture_levels(
         io::Texels::Linear(image) => FilteredTexture::new(&image, options),
     };
     Ok((texture, alpha))
-}
-
-/// Texels in linear RGBA (8-bit ones decoded, from sRGB with `srgb`).
-fn linear(texels: io::Texels, srgb: bool) -> Image<[f32; 4]> {
-    match texels {
-        io::Texels::Rgba8(image) => {
-            Image { width: image.width, height: image.height, pixels: decode_rgba8(&image.pixels, srgb) }
-        }
-        io::Texels::Linear(image) => image,
-    }
 }
 
 fn filter_choices() -> Vec<(&'static str, Option<Filter>)> {

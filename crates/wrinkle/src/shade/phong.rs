@@ -17,6 +17,8 @@ pub struct Lobe8 {
     p12: F8,
     p22: F8,
     ratio: F8,
+    /// -s/2: the power of the lobe of exponent s it was widened from.
+    power: F8,
 }
 
 impl Lobe8 {
@@ -32,16 +34,17 @@ impl Lobe8 {
         // det A expanded, so that wide spreads do not cancel it away: 1/s^2 + (xx + yy)/s + det Sigma.
         let det = inv_s * (inv_s + xx + yy) + (xx * yy - a12 * a12).max(F8::ZERO);
         let k = F8::ONE / (det * s);
-        Lobe8 { spread, p11: a22 * k, p12: -a12 * k, p22: a11 * k, ratio: F8::ONE / (s * det.sqrt()) }
+        let ratio = F8::ONE / (s * det.sqrt());
+        Lobe8 { spread, p11: a22 * k, p12: -a12 * k, p22: a11 * k, ratio, power: s * F8::splat(-0.5) }
     }
 
     /// The lobe at half vector `h` (unit) where N.H = `ndoth` > 0.
     #[inline]
-    fn eval(&self, h: V3, ndoth: F8, s: F8) -> F8 {
+    fn eval(&self, h: V3, ndoth: F8) -> F8 {
         let inv = F8::ONE / ndoth;
         let (h1, h2) = (h.dot(self.spread.t1) * inv, h.dot(self.spread.t2) * inv);
         let x = F8::ONE + self.p11 * h1 * h1 + (self.p12 + self.p12) * h1 * h2 + self.p22 * h2 * h2;
-        self.ratio * pow(x, s * F8::splat(-0.5))
+        self.ratio * pow(x, self.power)
     }
 }
 
@@ -62,7 +65,8 @@ impl Phong {
 
     /// Blinn-Phong on eight samples: albedo (N.L) + ks (N.H)^exponent, times `light`'s radiance at `p`;
     /// `ks` is each lane's specular (the material's, or what its layers made of it), `exponent` each lane's
-    /// where layers vary it (else the material's `shininess`); `lobe` widens the highlight (LEAN).
+    /// where layers vary it (else the material's `shininess`); `lobe` replaces the highlight by its widened
+    /// one (LEAN; it carries its own exponent).
     #[inline]
     #[allow(clippy::too_many_arguments)]
     pub fn shade8(
@@ -95,19 +99,18 @@ impl Phong {
         }
         let h = (l + v).normalize_or_zero();
         let ndoth = n.dot(h);
-        let s = exponent.unwrap_or(F8::splat(self.shininess));
         let spec = match lobe {
             Some(lobe) => {
                 let facing = ndoth.cmp_gt(F8::ZERO);
                 match facing.any() {
-                    true => facing.blend(ks * lobe.eval(h, ndoth.max(F8::splat(1e-6)), s), F8::ZERO),
+                    true => facing.blend(ks * lobe.eval(h, ndoth.max(F8::splat(1e-6))), F8::ZERO),
                     false => F8::ZERO,
                 }
             }
             None => {
                 let glints = ndoth.cmp_gt(F8::splat(self.cutoff));
                 match glints.any() {
-                    true => glints.blend(ks * pow(ndoth, s), F8::ZERO),
+                    true => glints.blend(ks * pow(ndoth, exponent.unwrap_or(F8::splat(self.shininess))), F8::ZERO),
                     false => F8::ZERO,
                 }
             }
