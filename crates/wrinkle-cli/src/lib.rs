@@ -17,6 +17,7 @@ mod mappings;
 mod mipmap;
 mod normalmap;
 mod output;
+mod paint;
 mod progress;
 mod render;
 mod sheet;
@@ -74,6 +75,8 @@ enum Command {
     Tessellate(tessellate::TessellateArgs),
     /// Convert an environment map between latlong, cube, sphere map and dual paraboloid layouts, filtered.
     Envmap(envmap::EnvmapArgs),
+    /// Paint colour, height (bumps), specular and opacity onto a model in the browser (serves a page on 127.0.0.1).
+    Paint(paint::PaintArgs),
 }
 
 /// Why a command failed: its one-line message (without `error: `) and the exit code it means.
@@ -120,6 +123,7 @@ pub fn execute(args: impl IntoIterator<Item = OsString>) -> Result<(), Failure> 
             Command::Mappings(a) => mappings::run(a),
             Command::Tessellate(a) => tessellate::run(a),
             Command::Envmap(a) => envmap::run(a),
+            Command::Paint(a) => paint::run(a),
         });
     result.map_err(|e| Failure { message: describe(&e), code: exit_code(&e) })
 }

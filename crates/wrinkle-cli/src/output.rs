@@ -33,7 +33,7 @@ pub fn write_stdout(frame: &Frame) -> Result<()> {
     let size = (frame.width, frame.height);
     let mut out = std::io::stdout().lock();
     match &frame.alpha {
-        None => io::encode_png8(&mut out, name, size, 3, &encode_srgb8(frame))?,
+        None => io::encode_png8(&mut out, name, size, 3, &frame.srgb8())?,
         Some(alpha) => io::encode_png8(&mut out, name, size, 4, &encode_srgba8(frame, alpha))?,
     }
     out.flush().map_err(|e| Error::write(name, e))
@@ -46,20 +46,6 @@ pub fn format_of(path: &Path) -> Result<Format> {
     require_extension(path, &["png", "exr"])?;
     let exr = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"));
     Ok(if exr { Format::Exr } else { Format::Png })
-}
-
-/// The frame's linear RGB as 8-bit sRGB bytes.
-pub fn encode_srgb8(frame: &Frame) -> Vec<u8> {
-    let enc = SrgbEncoder::new();
-    let mut out = vec![0u8; frame.width * frame.height * 3];
-    out.par_chunks_mut(frame.width * 3).zip(frame.color.par_chunks(frame.width)).for_each(|(dst, src)| {
-        for (d, s) in dst.chunks_exact_mut(3).zip(src) {
-            d[0] = enc.encode(s[0]);
-            d[1] = enc.encode(s[1]);
-            d[2] = enc.encode(s[2]);
-        }
-    });
-    out
 }
 
 /// The frame's premultiplied colour and its coverage `alpha` as 8-bit RGBA: sRGB colour divided by alpha
@@ -94,7 +80,7 @@ fn outputs<'a>(out: &Path, frame: &'a Frame) -> Result<Vec<Output<'a>>> {
         Format::Png => list.push((
             out.to_path_buf(),
             match &frame.alpha {
-                None => Box::new(move |p| io::write_png_rgb8(p, w, h, &encode_srgb8(frame))),
+                None => Box::new(move |p| io::write_png_rgb8(p, w, h, &frame.srgb8())),
                 Some(alpha) => Box::new(move |p| io::write_png_rgba8(p, w, h, &encode_srgba8(frame, alpha))),
             },
         )),

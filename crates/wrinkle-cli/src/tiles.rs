@@ -2,7 +2,7 @@
 //! pixels are exactly the whole frame's) and all from one setup (`render_parts`), assembled band by band of
 //! tiles across the frame.
 
-use crate::output::{encode_srgb8, format_of, stage_outputs, Format};
+use crate::output::{format_of, stage_outputs, Format};
 use crate::progress::Progress;
 use glam::Vec3;
 use std::path::Path;
@@ -52,7 +52,7 @@ pub fn render_in_tiles(
         let rows = RowFormat { channels: 3, sixteen: false };
         set.stage(out, |path| {
             write_rows_as(path, OutputFormat::Png, w, h, rows, PngCompression::Fast, |sink| {
-                in_bands(&mut |strip| sink(&encode_srgb8(&strip)))
+                in_bands(&mut |strip| sink(&strip.srgb8()))
             })
         })
     } else {

@@ -9,6 +9,7 @@
 //! | to ... | use |
 //! | --- | --- |
 //! | load or build a scene and render it | [`Scene`] ([`Scene::load`], [`Scene::new`]), [`CameraDesc`], [`Light`], [`Material`], [`Shape`], [`render`], [`RenderOptions`], [`Frame`] |
+//! | find what a pixel sees (picking) | [`CameraDesc::screen`] gives the [`Camera`]: `ray` through a pixel, `project` a point; the frame's `depth` and `primitive` AOVs |
 //! | hold and read images | [`Image`], [`ImageRef`] (a view of the caller's buffer), [`image::io`], [`image::stream`] |
 //! | filter textures | [`FilteredTexture`], [`TextureOptions`], [`Filter`], [`Footprint`], [`texture::mip::pyramid`] |
 //! | bump-map | [`BumpMap`], [`BumpTable`], [`bump::generators`], [`bump::schlag`] (emboss), [`bump::normal_map`], [`bump::integrate`] |
@@ -46,6 +47,7 @@ pub use image::{GreyImage, Image, ImageRef};
 pub use light::{Light, ShadowSettings};
 pub use mapping::Mapping;
 pub use procedural::Perlin;
+pub use raster::Camera;
 pub use render::{
     render, render_parts, render_until, render_with_progress, Aovs, Crop, Frame, PixelFilter, RenderOptions, Sampler,
 };
@@ -61,6 +63,6 @@ pub mod internals {
     pub use crate::lanes::{F8, LANES, V3};
     pub use crate::raster::samples::TileOffsets;
     pub use crate::raster::visibility::cover;
-    pub use crate::raster::{Camera, Cull, SamplePattern, TriangleSetup};
+    pub use crate::raster::{Cull, SamplePattern, TriangleSetup};
     pub use crate::texture::ewa::Axes;
 }

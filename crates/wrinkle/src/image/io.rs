@@ -272,6 +272,21 @@ pub fn write_png16(path: &Path, width: usize, height: usize, channels: usize, sa
     write_png(path, width, height, colour, png::BitDepth::Sixteen, &bytes)
 }
 
+/// Encodes a 16-bit PNG of 1 to 4 channels into `out`, as `write_png16` writes it to a file; errors name
+/// `name`.
+pub fn encode_png16(
+    out: &mut dyn Write,
+    name: &Path,
+    (width, height): (usize, usize),
+    channels: usize,
+    samples: &[u16],
+) -> Result<()> {
+    let colour = png_colour(name, channels)?;
+    check_buffer(name, width, height, channels, samples.len())?;
+    let bytes: Vec<u8> = samples.iter().flat_map(|v| v.to_be_bytes()).collect();
+    encode_png(out, name, width, height, colour, png::BitDepth::Sixteen, &bytes)
+}
+
 /// Writes an 8-bit RGB PNG from `rgb`, 3 bytes per pixel, row 0 at the top.
 pub fn write_png_rgb8(path: &Path, width: usize, height: usize, rgb: &[u8]) -> Result<()> {
     write_png8(path, width, height, 3, rgb)

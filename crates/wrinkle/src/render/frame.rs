@@ -1,6 +1,7 @@
 //! A rendered frame: linear RGB and the optional AOVs (normal, uv, depth, id, primitive), with stage
 //! timings.
 
+use crate::image::color::SrgbEncoder;
 use crate::image::io::Placement;
 use crate::shade::ShadedSample;
 use glam::{Vec2, Vec3};
@@ -94,6 +95,20 @@ impl Frame {
             placement: Placement::whole(width, height),
             stats: Stats::default(),
         }
+    }
+
+    /// The linear RGB as 8-bit sRGB bytes, three a pixel, row 0 at the top (what a PNG of the frame holds).
+    pub fn srgb8(&self) -> Vec<u8> {
+        let enc = SrgbEncoder::new();
+        let mut out = vec![0u8; self.width * self.height * 3];
+        out.par_chunks_mut(self.width * 3).zip(self.color.par_chunks(self.width)).for_each(|(dst, src)| {
+            for (d, s) in dst.chunks_exact_mut(3).zip(src) {
+                d[0] = enc.encode(s[0]);
+                d[1] = enc.encode(s[1]);
+                d[2] = enc.encode(s[2]);
+            }
+        });
+        out
     }
 
     /// The AOVs the frame holds.

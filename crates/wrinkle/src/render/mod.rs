@@ -266,7 +266,7 @@ fn render_view_parts(
     let (w, h) = (options.width, options.height);
     let mut stats = Stats::default();
     let cam = view.camera;
-    let camera = Camera::new(cam.eye, cam.look_at, cam.up, cam.projection, w as u32, h as u32);
+    let camera = cam.screen(w, h);
     let object_views = match view.object_views {
         true => views::object_views(scene, options, &camera)?,
         false => Vec::new(),

@@ -8,7 +8,7 @@ use crate::error::{Error, Result};
 use crate::geometry::billboard::Billboard;
 use crate::geometry::{MeshPart, Shape, Surface, Transform};
 use crate::light::{Light, ShadowSettings, Spot};
-use crate::raster::Projection;
+use crate::raster::{Camera, Projection};
 use crate::shade::Material;
 use glam::Vec3;
 
@@ -155,6 +155,12 @@ impl CameraDesc {
     /// A camera at `eye` looking at `look_at`, +Y up, 40 degrees vertically, a black background.
     pub fn looking_at(eye: Vec3, look_at: Vec3) -> Result<CameraDesc> {
         CameraDesc::new(eye, look_at, Vec3::Y, Projection::default(), Vec3::ZERO)
+    }
+
+    /// The camera a frame of `width` x `height` pixels is rendered through: where world points land on the
+    /// screen and the ray through a pixel (what picking under the mouse needs).
+    pub fn screen(&self, width: usize, height: usize) -> Camera {
+        Camera::new(self.eye, self.look_at, self.up, self.projection, width as u32, height as u32)
     }
 }
 
