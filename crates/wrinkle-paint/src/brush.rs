@@ -224,8 +224,8 @@ mod tests {
         for _ in 0..5 {
             stroke.deposit(&mut atlas, 2, 0.5);
         }
-        // 0.5 halfway to 1.0, once: 0.75 (code 191), not 1.0.
-        assert_eq!(atlas.codes(Channel::Specular)[2], 191);
+        // Code 128 (0.5 rounded up) halfway to 255, once: 191.5, rounded to 192; not 255.
+        assert_eq!(atlas.codes(Channel::Specular)[2], 192);
         let edit = stroke.finish(&atlas);
         assert_eq!(edit.texels, vec![2]);
         edit.apply(&mut atlas, true);

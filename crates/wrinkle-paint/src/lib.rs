@@ -23,9 +23,9 @@ mod session;
 mod surface_points;
 
 pub use brush::{Brush, RadiusSpace};
-pub use channels::Channel;
+pub use channels::{Atlas, Channel};
 pub use server::router;
-pub use session::{Orbit, Session, State};
+pub use session::{Orbit, Saved, Session, State};
 
 use std::net::{Ipv4Addr, SocketAddr};
 use std::path::PathBuf;

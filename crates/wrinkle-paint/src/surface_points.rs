@@ -236,29 +236,29 @@ mod tests {
 
     #[test]
     fn sphere_points_lie_at_their_texels_uv() {
-        let size = 64;
+        let size = 128;
         let sphere = Surface::Sphere { radius: 1.0 };
         let points = SurfacePoints::of_primitives(&[Primitive::Parametric(sphere.clone())], size).unwrap();
         let centre = sphere.position(0.75, 0.5);
         let mut seen = Vec::new();
-        points.within(centre, 0.1, |texel, p, d| {
+        points.within(centre, 0.3, |texel, p, d| {
             let (u, v) = texel_uv(texel as usize, size);
             assert!(sphere.position(u, v).distance(p) < 1e-5);
-            assert!((p.distance(centre) - d).abs() < 1e-6 && d < 0.1);
+            assert!((p.distance(centre) - d).abs() < 1e-6 && d < 0.3);
             seen.push(texel);
         });
         // Every texel whose point lies within the radius, and no other: against a scan of all of them.
         let mut all: Vec<u32> = (0..size * size)
             .filter(|&k| {
                 let (u, v) = texel_uv(k, size);
-                sphere.position(u, v).distance(centre) < 0.1
+                sphere.position(u, v).distance(centre) < 0.3
             })
             .map(|k| k as u32)
             .collect();
         seen.sort();
         all.sort();
         assert_eq!(seen, all);
-        assert!(seen.len() > 10);
+        assert!(seen.len() > 100, "{} texels", seen.len());
     }
 
     #[test]
@@ -278,7 +278,8 @@ mod tests {
             assert!(p.z.abs() < 1e-6 && p.x >= -1e-6 && p.y >= -1e-6 && p.x + p.y <= 1.0 + 1e-5);
             texels.push(t as usize);
         });
-        // The triangle covers about 32^2 / 8 = 128 texel centres; the gutter adds a band 4 texels wide.
+        // The triangle covers about 32^2 / 8 = 128 texel centres; the gutter adds a band 4 texels wide
+        // around its 55 texels of perimeter, with rounded corners: about 270.
         let inside = texels.iter().filter(|&&k| {
             let (u, v) = texel_uv(k, size);
             u >= 0.25 && v >= 0.25 && (u - 0.25) + (v - 0.25) <= 0.5
@@ -289,7 +290,7 @@ mod tests {
             u < 0.25 || v < 0.25 || (u - 0.25) + (v - 0.25) > 0.5
         });
         let gutter = outside.count();
-        assert!((100..=220).contains(&gutter), "gutter texels {gutter}");
+        assert!((230..=300).contains(&gutter), "gutter texels {gutter}");
         // Nothing beyond the gutter.
         for &k in &texels {
             let (u, v) = texel_uv(k, size);
