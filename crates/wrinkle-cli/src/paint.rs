@@ -3,7 +3,7 @@
 use clap::Args;
 use std::path::PathBuf;
 use wrinkle::Result;
-use wrinkle_paint::{serve, Options, DEFAULT_PORT};
+use wrinkle_paint::{serve, Options, Session, DEFAULT_PORT};
 
 #[derive(Args, Debug)]
 #[command(
@@ -30,6 +30,9 @@ pub struct PaintArgs {
     /// Open the page in a browser, where one is found.
     #[arg(long)]
     pub open: bool,
+    /// Serve nothing: time N orbit frames and N brush dabs (radius 30 px) in-process and print the medians.
+    #[arg(long, value_name = "N")]
+    pub bench: Option<usize>,
 }
 
 fn parse_size(text: &str) -> std::result::Result<(usize, usize), String> {
@@ -38,6 +41,9 @@ fn parse_size(text: &str) -> std::result::Result<(usize, usize), String> {
 }
 
 pub fn run(args: &PaintArgs) -> Result<()> {
+    if let Some(steps) = args.bench {
+        return bench(args, steps.max(1));
+    }
     let options = Options {
         model: args.model.clone(),
         object: args.object,
@@ -64,6 +70,20 @@ pub fn run(args: &PaintArgs) -> Result<()> {
             eprintln!("no browser could be opened: open {url} yourself");
         }
     })
+}
+
+/// Medians and best of the in-process frame and dab times (BENCHMARKS.md, "Painting").
+fn bench(args: &PaintArgs, steps: usize) -> Result<()> {
+    let mut session = Session::open(&args.model, args.object, args.atlas_size, args.view)?;
+    let times = wrinkle_paint::bench::measure(&mut session, steps, 30.0)?;
+    let (w, h) = args.view;
+    println!("wrinkle paint --bench: {w}x{h}, atlas {}, {} threads", args.atlas_size, rayon::current_num_threads());
+    for (name, mut t) in [("orbit frame (render + JPEG)", times.orbit), ("dab of 30 px + frame", times.dab)] {
+        t.sort_by(f64::total_cmp);
+        let median = t[t.len() / 2];
+        println!("{name:30} median {median:7.2} ms  best {:7.2} ms  ({:.1} per second)", t[0], 1e3 / median);
+    }
+    Ok(())
 }
 
 fn open_browser(url: &str) -> std::io::Result<()> {

@@ -147,7 +147,9 @@ impl Atlas {
                 let rgb: Vec<u8> = codes.iter().flat_map(|c| c.to_le_bytes().into_iter().take(3)).collect();
                 io::write_png_rgb8(path, size, size, &rgb)
             }
-            Channel::Height => io::write_png16(path, size, size, 1, &codes.iter().map(|&c| c as u16).collect::<Vec<_>>()),
+            Channel::Height => {
+                io::write_png16(path, size, size, 1, &codes.iter().map(|&c| c as u16).collect::<Vec<_>>())
+            }
             _ => io::write_png8(path, size, size, 1, &codes.iter().map(|&c| c as u8).collect::<Vec<_>>()),
         }
     }

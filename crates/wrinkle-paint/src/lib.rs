@@ -12,7 +12,9 @@
 //! | `session` | the camera, frames with their item buffer, strokes, undo, saving |
 //! | `frames` | frames as JPEG or PNG |
 //! | `server`, `page` | the HTTP API, the WebSocket and the embedded page |
+//! | `bench` | frame and dab latency, measured in-process |
 
+pub mod bench;
 mod brush;
 mod channels;
 mod frames;
@@ -81,7 +83,10 @@ async fn bind(port: Option<u16>) -> Result<tokio::net::TcpListener> {
                     return Ok(listener);
                 }
             }
-            Err(Error::Invalid(format!("no free port from {DEFAULT_PORT} to {}: give one with --port", DEFAULT_PORT + 99)))
+            Err(Error::Invalid(format!(
+                "no free port from {DEFAULT_PORT} to {}: give one with --port",
+                DEFAULT_PORT + 99
+            )))
         }
     }
 }

@@ -9,7 +9,7 @@ use glam::Vec3;
 use std::path::{Path, PathBuf};
 use wrinkle::bump::BumpSource;
 use wrinkle::geometry::Shape;
-use wrinkle::mapping::MappedTexture;
+use wrinkle::mapping::{MappedTexture, Projection};
 use wrinkle::shade::{AlphaMode, Layer, Mode, Target};
 use wrinkle::{BumpMap, Error, Mapping, Material, Result, Scene};
 
@@ -48,7 +48,8 @@ impl Model {
         } else {
             scene_for_model(&std::path::absolute(path).map_err(|e| Error::read(path, e.to_string()))?)
         };
-        let document: toml::Table = text.parse().map_err(|e: toml::de::Error| Error::read(path, e.message().to_string()))?;
+        let document: toml::Table =
+            text.parse().map_err(|e: toml::de::Error| Error::read(path, e.message().to_string()))?;
         let scene = if is_scene { Scene::load(path)? } else { Scene::parse(&text, &base)? };
         let count = scene.objects.len();
         let Some(target) = scene.objects.get(object) else {
@@ -97,13 +98,15 @@ impl Model {
     /// Draws the painted object's materials with the atlas: each channel a `replace` layer (colour on kd,
     /// specular on ks, opacity on opacity, under the alpha test) and the height as the bump table.
     fn install(&mut self, atlas: &Atlas) -> Result<()> {
-        let layers = [(Channel::Color, Target::Kd), (Channel::Specular, Target::Ks), (Channel::Opacity, Target::Opacity)]
-            .map(|(channel, target)| Layer {
-                source: MappedTexture { texture: atlas.texture(channel), mapping: Mapping::default() },
-                target,
-                mode: Mode::Replace,
-                rgba: false,
-            });
+        let layers =
+            [(Channel::Color, Target::Kd), (Channel::Specular, Target::Ks), (Channel::Opacity, Target::Opacity)].map(
+                |(channel, target)| Layer {
+                    source: MappedTexture { texture: atlas.texture(channel), mapping: Mapping::default() },
+                    target,
+                    mode: Mode::Replace,
+                    rgba: false,
+                },
+            );
         let table = atlas.bump_table();
         for &m in &self.materials {
             let material: &mut Material = &mut self.scene.materials[m];
@@ -158,7 +161,8 @@ impl Model {
             .expect("the document holds the painted object");
         let material = object.entry("material").or_insert(toml::Value::Table(toml::Table::new()));
         let material = material.as_table_mut().expect("a material is a table");
-        for field in ["texture", "filter", "specular_map", "layer", "bump", "normal_map", "alpha_mode", "alpha_cutoff"] {
+        for field in ["texture", "filter", "specular_map", "layer", "bump", "normal_map", "alpha_mode", "alpha_cutoff"]
+        {
             material.remove(field);
         }
         let layer = |channel: Channel, target: &str| {
@@ -255,20 +259,22 @@ fn image_side(path: &Path) -> Result<Option<usize>> {
 }
 
 /// The colour channel of a new atlas: the material's colour, times its colour texture where it reads the
-/// surface's own (u,v) (the nearest texel at each atlas texel's centre).
+/// surface's own (u,v) through a uv transform (the nearest texel, repeating, at each atlas texel's centre).
 fn colour_start(material: &Material, size: usize) -> Vec<u32> {
     let texture = material
         .colour_texture()
-        .filter(|t| t.mapping == Mapping::default())
-        .and_then(|t| t.texture.image());
+        .filter(|t| t.mapping.projection == Projection::Uv)
+        .and_then(|t| Some((t.texture.image()?, t.mapping.transform)));
     (0..size * size)
         .map(|k| {
             let c = match texture {
-                Some(image) => {
+                Some((image, transform)) => {
                     let (w, h) = image.size();
                     let (u, v) = texel_uv(k, size);
-                    let texel = image.texel(((u * w as f32) as usize).min(w - 1), (((1.0 - v) * h as f32) as usize).min(h - 1));
-                    material.color * texel.truncate()
+                    let st = transform.point(glam::Vec2::new(u, v));
+                    let column = (st.x * w as f32).floor().rem_euclid(w as f32) as usize;
+                    let from_bottom = (st.y * h as f32).floor().rem_euclid(h as f32) as usize;
+                    material.color * image.texel(column.min(w - 1), from_bottom.min(h - 1)).truncate()
                 }
                 None => material.color,
             };

@@ -143,7 +143,8 @@ struct StrokeRequest {
 
 async fn stroke(State(session): State<Shared>, body: Bytes) -> Result<Response, Failure> {
     let request: StrokeRequest = parse(&body)?;
-    let brush: Brush = serde_json::from_value(request.brush).map_err(|e| Failure::bad(format!("malformed brush: {e}")))?;
+    let brush: Brush =
+        serde_json::from_value(request.brush).map_err(|e| Failure::bad(format!("malformed brush: {e}")))?;
     with_session(&session, move |s| {
         let texels = s.stroke(brush, &request.points)?;
         Ok(json_answer(json!({ "texels": texels })))
@@ -243,11 +244,13 @@ async fn live_request(session: &Shared, request: Value) -> Result<Vec<Answer>, F
         }
         v
     };
-    let frame = |s: &mut Session, format: FrameFormat| -> Result<Answer, Failure> { Ok(Answer::Frame(encode_frame(s.frame()?, format)?)) };
+    let frame = |s: &mut Session, format: FrameFormat| -> Result<Answer, Failure> {
+        Ok(Answer::Frame(encode_frame(s.frame()?, format)?))
+    };
     match kind.as_str() {
         "camera" => {
-            let camera: CameraRequest =
-                serde_json::from_value(without_type(request)).map_err(|e| Failure::bad(format!("malformed camera: {e}")))?;
+            let camera: CameraRequest = serde_json::from_value(without_type(request))
+                .map_err(|e| Failure::bad(format!("malformed camera: {e}")))?;
             with_session(session, move |s| {
                 camera.apply(s)?;
                 Ok(vec![frame(s, FrameFormat::Jpeg)?])
@@ -255,8 +258,8 @@ async fn live_request(session: &Shared, request: Value) -> Result<Vec<Answer>, F
             .await
         }
         "stroke_begin" => {
-            let brush: Brush =
-                serde_json::from_value(without_type(request)).map_err(|e| Failure::bad(format!("malformed brush: {e}")))?;
+            let brush: Brush = serde_json::from_value(without_type(request))
+                .map_err(|e| Failure::bad(format!("malformed brush: {e}")))?;
             with_session(session, move |s| {
                 s.begin_stroke(brush)?;
                 Ok(Vec::new())
@@ -265,7 +268,11 @@ async fn live_request(session: &Shared, request: Value) -> Result<Vec<Answer>, F
         }
         "stroke_point" => {
             let coordinate = |name: &str| {
-                request.get(name).and_then(Value::as_f64).map(|v| v as f32).ok_or_else(|| Failure::bad(format!("stroke_point needs a number {name}")))
+                request
+                    .get(name)
+                    .and_then(Value::as_f64)
+                    .map(|v| v as f32)
+                    .ok_or_else(|| Failure::bad(format!("stroke_point needs a number {name}")))
             };
             let (x, y) = (coordinate("x")?, coordinate("y")?);
             with_session(session, move |s| {

@@ -30,7 +30,8 @@ pub struct Orbit {
 impl Orbit {
     pub fn eye(&self) -> Vec3 {
         let (yaw, pitch) = (self.yaw.to_radians(), self.pitch.to_radians());
-        Vec3::from(self.target) + self.distance * Vec3::new(pitch.cos() * yaw.sin(), pitch.sin(), pitch.cos() * yaw.cos())
+        Vec3::from(self.target)
+            + self.distance * Vec3::new(pitch.cos() * yaw.sin(), pitch.sin(), pitch.cos() * yaw.cos())
     }
 
     fn validate(&self) -> std::result::Result<(), String> {

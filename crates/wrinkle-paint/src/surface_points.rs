@@ -49,15 +49,18 @@ impl SurfacePoints {
             }
         }
         if found.points.is_empty() {
-            return Err(Error::Invalid("the model covers no texel of the atlas (its texture coordinates are degenerate)".into()));
+            return Err(Error::Invalid(
+                "the model covers no texel of the atlas (its texture coordinates are degenerate)".into(),
+            ));
         }
         Ok(SurfacePoints::sorted(found))
     }
 
     fn sorted(found: Found) -> SurfacePoints {
-        let (lo, hi) = found.points.iter().fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(lo, hi), p| {
-            (lo.min(*p), hi.max(*p))
-        });
+        let (lo, hi) = found
+            .points
+            .iter()
+            .fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
         let extent = (hi - lo).max(Vec3::splat(1e-6));
         // About 16 points a cell.
         let cells_wanted = (found.points.len() / 16).max(1) as f32;
@@ -220,7 +223,11 @@ fn nearest_on_triangle(q: Vec2, a: Vec2, b: Vec2, c: Vec2, area: f32) -> (Vec3, 
     let (tab, dab) = on_edge(a, b);
     let (tbc, dbc) = on_edge(b, c);
     let (tca, dca) = on_edge(c, a);
-    let best = [(Vec3::new(1.0 - tab, tab, 0.0), dab), (Vec3::new(0.0, 1.0 - tbc, tbc), dbc), (Vec3::new(tca, 0.0, 1.0 - tca), dca)];
+    let best = [
+        (Vec3::new(1.0 - tab, tab, 0.0), dab),
+        (Vec3::new(0.0, 1.0 - tbc, tbc), dbc),
+        (Vec3::new(tca, 0.0, 1.0 - tca), dca),
+    ];
     let inside = barycentric(q, a, b, c, area);
     if inside.min_element() >= 0.0 {
         return (inside, 0.0);

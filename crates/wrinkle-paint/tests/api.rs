@@ -48,7 +48,9 @@ fn a_dab_paints_the_texels_within_the_brush_sphere() {
     let mut s = sphere_session(size);
     let before = s.atlas().codes(Channel::Color).to_vec();
     let (w, h) = VIEW;
-    let texels = s.stroke(brush(r#"{"radius": 24, "hardness": 1, "color": [1, 0, 0]}"#), &[[w as f32 / 2.0, h as f32 / 2.0]]).unwrap();
+    let texels = s
+        .stroke(brush(r#"{"radius": 24, "hardness": 1, "color": [1, 0, 0]}"#), &[[w as f32 / 2.0, h as f32 / 2.0]])
+        .unwrap();
     // The point seen at the centre pixel: its ray (the eye at z = 4, fov 35 degrees) meets the unit
     // sphere; the brush's radius in the world is 24 pixels at its depth.
     let scale = 0.5 * h as f32 / (17.5f32).to_radians().tan();
@@ -115,7 +117,8 @@ fn undo_and_redo_restore_the_atlas_exactly() {
     assert!(s.undo(true) > 0);
     assert_eq!(s.atlas().codes(Channel::Specular), painted.as_slice());
     // The eraser paints back what was loaded.
-    s.stroke(brush(r#"{"radius": 300, "hardness": 1, "channel": "specular", "erase": true}"#), &[[160.0, 120.0]]).unwrap();
+    s.stroke(brush(r#"{"radius": 300, "hardness": 1, "channel": "specular", "erase": true}"#), &[[160.0, 120.0]])
+        .unwrap();
     assert_eq!(s.atlas().codes(Channel::Specular), start.as_slice());
     // Sixty strokes across the sphere (opacity above the alpha cutoff: no holes), all undone, and the two
     // before them.
@@ -174,7 +177,8 @@ fn a_stroke_across_an_atlas_seam_leaves_no_gap() {
     let size = 200;
     let mut s = Session::open(&dir.join("halves.obj"), 0, size, VIEW).unwrap();
     s.set_camera(Orbit { yaw: 0.0, pitch: 0.0, distance: 4.0, target: [0.0; 3] }).unwrap();
-    s.stroke(brush(r#"{"radius": 0.3, "space": "object", "hardness": 1, "color": [1, 1, 0]}"#), &[[160.0, 120.0]]).unwrap();
+    s.stroke(brush(r#"{"radius": 0.3, "space": "object", "hardness": 1, "color": [1, 1, 0]}"#), &[[160.0, 120.0]])
+        .unwrap();
     let codes = s.atlas().codes(Channel::Color);
     let yellow = |u: f32, v: f32| {
         let k = ((1.0 - v) * size as f32) as usize * size + (u * size as f32) as usize;
@@ -225,15 +229,21 @@ async fn malformed_requests_are_refused_with_their_reason() {
         assert!(text.contains("\"error\"") && text.contains(reason), "{uri} {body}: {text}");
     }
     // The server goes on: a stroke off the model changes nothing, one on it something.
-    let (status, text) = call(router.clone(), "POST", "/api/stroke", r#"{"points": [[2, 2]], "radius": 3, "color": [1, 0, 0]}"#).await;
+    let (status, text) =
+        call(router.clone(), "POST", "/api/stroke", r#"{"points": [[2, 2]], "radius": 3, "color": [1, 0, 0]}"#).await;
     assert_eq!((status, text.as_str()), (StatusCode::OK, r#"{"texels":0}"#));
-    let (status, text) = call(router.clone(), "POST", "/api/stroke", r#"{"points": [[160, 120]], "radius": 30, "color": [1, 0, 0]}"#).await;
+    let (status, text) =
+        call(router.clone(), "POST", "/api/stroke", r#"{"points": [[160, 120]], "radius": 30, "color": [1, 0, 0]}"#)
+            .await;
     assert_eq!(status, StatusCode::OK);
     assert_ne!(text, r#"{"texels":0}"#);
     let (status, text) = call(router.clone(), "GET", "/api/state", "").await;
     assert_eq!(status, StatusCode::OK);
     let state: serde_json::Value = serde_json::from_str(&text).unwrap();
-    assert_eq!((state["width"].as_u64(), state["atlas_size"].as_u64(), state["undo"].as_u64()), (Some(320), Some(64), Some(1)));
+    assert_eq!(
+        (state["width"].as_u64(), state["atlas_size"].as_u64(), state["undo"].as_u64()),
+        (Some(320), Some(64), Some(1))
+    );
     let (status, _) = call(router.clone(), "GET", "/api/atlas/gloss.png", "").await;
     assert_eq!(status, StatusCode::NOT_FOUND);
     let (status, text) = call(router, "GET", "/api/frame.png", "").await;

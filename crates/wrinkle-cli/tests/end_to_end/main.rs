@@ -6,6 +6,7 @@ mod common;
 mod cli;
 mod emboss_cli;
 mod normal_maps_cli;
+mod paint_cli;
 mod portable;
 mod portable_build;
 mod robustness_cli;

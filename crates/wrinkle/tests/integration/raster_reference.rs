@@ -7,8 +7,8 @@
 use crate::common::*;
 use glam::{Affine3A, DVec3, Quat, Vec3};
 use std::path::Path;
-use wrinkle::Camera;
 use wrinkle::internals::{cover, grid, Cull, Mesh, SamplePattern, TileOffsets, TriangleSetup};
+use wrinkle::Camera;
 use wrinkle::{render, Aovs, PixelFilter, Projection, RenderOptions, Sampler, Scene, Surface};
 
 // ---------------------------------------------------------------------------------------------
