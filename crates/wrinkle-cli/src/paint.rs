@@ -3,7 +3,7 @@
 use clap::Args;
 use std::path::PathBuf;
 use wrinkle::Result;
-use wrinkle_paint::{serve, Options, Session, DEFAULT_PORT};
+use wrinkle_paint::{serve, Opening, Options, Session, DEFAULT_PORT};
 
 #[derive(Args, Debug)]
 #[command(
@@ -24,6 +24,10 @@ pub struct PaintArgs {
     /// The view's size in pixels, WIDTHxHEIGHT.
     #[arg(long, default_value = "960x540", value_parser = parse_size)]
     pub view: (usize, usize),
+    /// Lay out a new texture atlas for a mesh even where it has texture coordinates (overlapping or
+    /// mirrored ones); a mesh without any always gets one.
+    #[arg(long)]
+    pub new_atlas: bool,
     /// Where Save writes the channels and the scene (default: MODEL-painted/ beside the model).
     #[arg(long)]
     pub save_dir: Option<PathBuf>,
@@ -35,6 +39,10 @@ pub struct PaintArgs {
     pub bench: Option<usize>,
 }
 
+fn opening(args: &PaintArgs) -> Opening {
+    Opening { object: args.object, atlas_size: args.atlas_size, view: args.view, new_atlas: args.new_atlas }
+}
+
 fn parse_size(text: &str) -> std::result::Result<(usize, usize), String> {
     let parsed = text.split_once('x').and_then(|(w, h)| Some((w.trim().parse().ok()?, h.trim().parse().ok()?)));
     parsed.ok_or_else(|| format!("expected WIDTHxHEIGHT, such as 960x540, got {text}"))
@@ -44,14 +52,8 @@ pub fn run(args: &PaintArgs) -> Result<()> {
     if let Some(steps) = args.bench {
         return bench(args, steps.max(1));
     }
-    let options = Options {
-        model: args.model.clone(),
-        object: args.object,
-        port: args.port,
-        atlas_size: args.atlas_size,
-        view: args.view,
-        save_dir: args.save_dir.clone(),
-    };
+    let options =
+        Options { model: args.model.clone(), opening: opening(args), port: args.port, save_dir: args.save_dir.clone() };
     let open = args.open;
     serve(options, |address, session| {
         let url = format!("http://{address}/");
@@ -66,6 +68,15 @@ pub fn run(args: &PaintArgs) -> Result<()> {
             state.atlas_size,
             session.save_dir.display()
         );
+        if let Some(u) = &state.unwrapped {
+            println!(
+                "texture atlas laid out: {} charts, {:.0}% of the image used, stretch {:.2} mean, {:.2} at most",
+                u.charts,
+                100.0 * u.utilisation,
+                u.stretch_mean,
+                u.stretch_max
+            );
+        }
         if open && open_browser(&url).is_err() {
             eprintln!("no browser could be opened: open {url} yourself");
         }
@@ -74,7 +85,7 @@ pub fn run(args: &PaintArgs) -> Result<()> {
 
 /// Medians and best of the in-process frame and dab times (BENCHMARKS.md, "Painting").
 fn bench(args: &PaintArgs, steps: usize) -> Result<()> {
-    let mut session = Session::open(&args.model, args.object, args.atlas_size, args.view)?;
+    let mut session = Session::open(&args.model, &opening(args))?;
     let times = wrinkle_paint::bench::measure(&mut session, steps, 30.0)?;
     let (w, h) = args.view;
     println!("wrinkle paint --bench: {w}x{h}, atlas {}, {} threads", args.atlas_size, rayon::current_num_threads());

@@ -27,7 +27,7 @@ mod surface_points;
 pub use brush::{Brush, RadiusSpace};
 pub use channels::{Atlas, Channel};
 pub use server::router;
-pub use session::{Orbit, Saved, Session, State};
+pub use session::{Opening, Orbit, Saved, Session, State};
 
 use std::net::{Ipv4Addr, SocketAddr};
 use std::path::PathBuf;
@@ -40,18 +40,16 @@ pub const DEFAULT_PORT: u16 = 8478;
 /// What `wrinkle paint` was asked for.
 pub struct Options {
     pub model: PathBuf,
-    pub object: usize,
+    pub opening: Opening,
     /// A port that must be free; `None`: the first free one from `DEFAULT_PORT`.
     pub port: Option<u16>,
-    pub atlas_size: usize,
-    pub view: (usize, usize),
     pub save_dir: Option<PathBuf>,
 }
 
 /// Loads the model and serves the page and API on 127.0.0.1 until the process ends; `ready` is told the
 /// address once the server listens.
 pub fn serve(options: Options, ready: impl FnOnce(SocketAddr, &Session)) -> Result<()> {
-    let mut session = Session::open(&options.model, options.object, options.atlas_size, options.view)?;
+    let mut session = Session::open(&options.model, &options.opening)?;
     if let Some(dir) = options.save_dir {
         session.save_dir = dir;
     }

@@ -4,15 +4,23 @@
 //! file declares them.
 
 use crate::channels::{read_channel, Atlas, Channel};
-use crate::surface_points::{texel_uv, SurfacePoints};
+use crate::surface_points::{texel_uv, SurfacePoints, GUTTER};
 use glam::Vec3;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use wrinkle::bump::BumpSource;
+use wrinkle::geometry::unwrap::{unwrap, UnwrapOptions, UnwrapReport};
 use wrinkle::geometry::Shape;
+use wrinkle::geometry::TriangleMesh;
 use wrinkle::mapping::{MappedTexture, Projection};
+use wrinkle::scene::write_obj;
 use wrinkle::shade::{AlphaMode, Layer, Mode, Target};
 use wrinkle::{BumpMap, Error, Mapping, Material, Result, Scene};
 
+/// The file a saved scene's unwrapped model is written to, beside it.
+const MODEL_FILE: &str = "model.obj";
+/// The widest angle between a chart's faces and its seed's normal: stretch at most 1 / cos 45 = 1.41.
+const MAX_CHART_ANGLE: f32 = 45.0;
 /// The bump scale of a new height channel, per unit of the object's bounding radius.
 const HEIGHT_SCALE: f32 = 0.03;
 /// The alpha test's cutoff on the painted opacity.
@@ -33,13 +41,17 @@ pub struct Model {
     pub stem: String,
     /// F = `bump_scale` x height, object units.
     pub bump_scale: f32,
+    /// The atlas laid out for a mesh without usable texture coordinates (saved as `model.obj`).
+    pub unwrapped: Option<UnwrapReport>,
 }
 
 impl Model {
     /// Opens a scene file (`.toml`, painting object `object`) or a model file (OBJ, glTF, GLB), and the atlas
     /// it starts with: the channels a saved scene names, else the material's colour (and colour texture),
     /// specular, full opacity and a flat height.
-    pub fn open(path: &Path, object: usize, atlas_size: usize) -> Result<(Model, Atlas)> {
+    /// A mesh without texture coordinates, or any mesh with `new_atlas`, gets an atlas of its own
+    /// (`wrinkle::geometry::unwrap`).
+    pub fn open(path: &Path, object: usize, atlas_size: usize, new_atlas: bool) -> Result<(Model, Atlas)> {
         let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "model".into());
         let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
         let is_scene = crate::session::is_scene_file(path);
@@ -50,7 +62,7 @@ impl Model {
         };
         let document: toml::Table =
             text.parse().map_err(|e: toml::de::Error| Error::read(path, e.message().to_string()))?;
-        let scene = if is_scene { Scene::load(path)? } else { Scene::parse(&text, &base)? };
+        let mut scene = if is_scene { Scene::load(path)? } else { Scene::parse(&text, &base)? };
         let count = scene.objects.len();
         let Some(target) = scene.objects.get(object) else {
             return Err(Error::parameter("object", format!("must be below the scene's {count} objects, got {object}")));
@@ -67,6 +79,8 @@ impl Model {
             Some((_, file)) => image_side(file)?.unwrap_or(atlas_size),
             None => atlas_size,
         };
+        let unwrapped = lay_out_atlas(&mut scene.objects[object].shape, size, new_atlas)?;
+        let target = &scene.objects[object];
         let points = SurfacePoints::of_primitives(&target.shape.primitives(), size)?;
         let (lo, hi) = points.bounds();
         let scale = target.transform.scale.abs().max_element();
@@ -90,7 +104,7 @@ impl Model {
             },
             channels,
         );
-        let mut model = Model { scene, object, materials, points, document, base, stem, bump_scale };
+        let mut model = Model { scene, object, materials, points, document, base, stem, bump_scale, unwrapped };
         model.install(&atlas)?;
         Ok((model, atlas))
     }
@@ -159,8 +173,16 @@ impl Model {
             .and_then(|a| a.get_mut(self.object))
             .and_then(|o| o.as_table_mut())
             .expect("the document holds the painted object");
+        if self.unwrapped.is_some() {
+            object.insert("file".into(), MODEL_FILE.into());
+        }
         let material = object.entry("material").or_insert(toml::Value::Table(toml::Table::new()));
         let material = material.as_table_mut().expect("a material is a table");
+        if self.unwrapped.is_some() {
+            // The saved model has no materials of its own: the file's exponent goes with the scene.
+            let shininess = self.scene.materials[self.materials[0]].phong.shininess;
+            material.insert("shininess".into(), toml::Value::Float(shininess as f64));
+        }
         for field in ["texture", "filter", "specular_map", "layer", "bump", "normal_map", "alpha_mode", "alpha_cutoff"]
         {
             material.remove(field);
@@ -196,6 +218,33 @@ impl Model {
             toml::to_string(&document).expect("a TOML table serialises")
         )
     }
+}
+
+/// The painted meshes with their atlas's (u,v), as OBJ text (what a saved scene of an unwrapped model reads).
+impl Model {
+    pub fn unwrapped_obj(&self) -> Option<String> {
+        self.unwrapped?;
+        let Shape::Mesh(parts) = &self.scene.objects[self.object].shape else { return None };
+        let meshes: Vec<(String, TriangleMesh)> =
+            parts.iter().enumerate().map(|(k, p)| (format!("part_{k}"), (*p.mesh).clone())).collect();
+        Some(write_obj(&meshes))
+    }
+}
+
+/// Gives a mesh without texture coordinates (or any mesh, with `always`) an atlas of its own, laid out for
+/// a `size` x `size` image with gutters wider than two of the paint's: what it came to.
+fn lay_out_atlas(shape: &mut Shape, size: usize, always: bool) -> Result<Option<UnwrapReport>> {
+    let Shape::Mesh(parts) = shape else { return Ok(None) };
+    if !always && parts.iter().all(|p| p.mesh.uvs(0).is_some()) {
+        return Ok(None);
+    }
+    let meshes: Vec<&TriangleMesh> = parts.iter().map(|p| p.mesh.as_ref()).collect();
+    let options = UnwrapOptions { size, gutter: 2 * GUTTER + 2, max_angle: MAX_CHART_ANGLE };
+    let (laid_out, report) = unwrap(&meshes, options)?;
+    for (part, mesh) in parts.iter_mut().zip(laid_out) {
+        part.mesh = Arc::new(mesh);
+    }
+    Ok(Some(report))
 }
 
 /// A scene for a model file: the model at the origin, a key light and an ambient one (the camera is the

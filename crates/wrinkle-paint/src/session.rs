@@ -48,6 +48,25 @@ impl Orbit {
     }
 }
 
+/// How a model is opened for painting.
+#[derive(Clone, Copy, Debug)]
+pub struct Opening {
+    /// Which object of a scene file.
+    pub object: usize,
+    /// The side of the square atlas (a saved scene's channels keep theirs).
+    pub atlas_size: usize,
+    /// The view's width and height in pixels.
+    pub view: (usize, usize),
+    /// Lay out a new atlas for a mesh even where it has texture coordinates (overlapping or mirrored ones).
+    pub new_atlas: bool,
+}
+
+impl Default for Opening {
+    fn default() -> Self {
+        Opening { object: 0, atlas_size: 1024, view: (960, 540), new_atlas: false }
+    }
+}
+
 /// What `GET /api/state` answers.
 #[derive(Serialize)]
 pub struct State {
@@ -60,6 +79,16 @@ pub struct State {
     pub undo: usize,
     pub redo: usize,
     pub model: String,
+    /// The atlas laid out for a mesh without texture coordinates: its charts, utilisation and stretch.
+    pub unwrapped: Option<Unwrapped>,
+}
+
+#[derive(Serialize)]
+pub struct Unwrapped {
+    pub charts: usize,
+    pub utilisation: f32,
+    pub stretch_mean: f32,
+    pub stretch_max: f32,
 }
 
 /// What saving wrote.
@@ -89,12 +118,13 @@ pub struct Session {
 }
 
 impl Session {
-    /// Opens a scene or model (see [`Model::open`]) with a `width` x `height` view.
-    pub fn open(path: &Path, object: usize, atlas_size: usize, (width, height): (usize, usize)) -> Result<Session> {
+    /// Opens a scene or model (see [`Model::open`]).
+    pub fn open(path: &Path, opening: &Opening) -> Result<Session> {
+        let Opening { object, atlas_size, view: (width, height), new_atlas } = *opening;
         if !(16..=8192).contains(&atlas_size) {
             return Err(Error::parameter("atlas_size", format!("must be from 16 to 8192, got {atlas_size}")));
         }
-        let (model, atlas) = Model::open(path, object, atlas_size)?;
+        let (model, atlas) = Model::open(path, object, atlas_size, new_atlas)?;
         let save_dir = model.base.join(format!("{}-painted", model.stem));
         // The camera starts where the scene's looks from, orbiting what it looks at.
         let cam = &model.scene.camera;
@@ -156,6 +186,12 @@ impl Session {
             undo: self.undo.len(),
             redo: self.redo.len(),
             model: self.model.stem.clone(),
+            unwrapped: self.model.unwrapped.map(|r| Unwrapped {
+                charts: r.charts,
+                utilisation: r.utilisation,
+                stretch_mean: r.stretch_mean,
+                stretch_max: r.stretch_max,
+            }),
         }
     }
 
@@ -364,6 +400,13 @@ impl Session {
         for channel in Channel::ALL {
             let path = dir.join(channel.file_name());
             self.atlas.write(channel, &path)?;
+            files.push(path);
+        }
+        if let Some(obj) = self.model.unwrapped_obj() {
+            let path = dir.join("model.obj");
+            wrinkle::image::output::write_atomic(&path, |out| {
+                out.write_all(obj.as_bytes()).map_err(|e| Error::write(&path, e.to_string()))
+            })?;
             files.push(path);
         }
         let scene = dir.join("scene.toml");

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 use tower::ServiceExt;
 use wrinkle::{RenderOptions, Scene, Surface};
-use wrinkle_paint::{Brush, Channel, Orbit, Session};
+use wrinkle_paint::{Brush, Channel, Opening, Orbit, Session};
 
 const VIEW: (usize, usize) = (320, 240);
 
@@ -25,8 +25,12 @@ fn temp_dir(name: &str) -> PathBuf {
     dir
 }
 
+fn opening(object: usize, atlas_size: usize) -> Opening {
+    Opening { object, atlas_size, view: VIEW, new_atlas: false }
+}
+
 fn sphere_session(atlas: usize) -> Session {
-    let mut s = Session::open(&repo().join("scenes/paint_sphere.toml"), 0, atlas, VIEW).unwrap();
+    let mut s = Session::open(&repo().join("scenes/paint_sphere.toml"), &opening(0, atlas)).unwrap();
     s.set_camera(Orbit { yaw: 0.0, pitch: 0.0, distance: 4.0, target: [0.0; 3] }).unwrap();
     s
 }
@@ -154,7 +158,7 @@ fn the_saved_scene_renders_what_was_painted_and_resumes() {
     let differing = shown.iter().zip(rendered.srgb8()).filter(|(a, b)| **a != *b).count();
     assert_eq!(differing, 0, "{differing} of {} channels differ between the page and the saved scene", shown.len());
     // The hole cut by the opacity channel shows the background.
-    let resumed = Session::open(&saved.scene, 0, 64, VIEW).unwrap();
+    let resumed = Session::open(&saved.scene, &opening(0, 64)).unwrap();
     assert_eq!(resumed.atlas().size, 256, "the saved channels keep their size");
     for channel in Channel::ALL {
         assert_eq!(resumed.atlas().codes(channel), s.atlas().codes(channel), "{channel:?} resumed");
@@ -175,7 +179,7 @@ fn a_stroke_across_an_atlas_seam_leaves_no_gap() {
     )
     .unwrap();
     let size = 200;
-    let mut s = Session::open(&dir.join("halves.obj"), 0, size, VIEW).unwrap();
+    let mut s = Session::open(&dir.join("halves.obj"), &opening(0, size)).unwrap();
     s.set_camera(Orbit { yaw: 0.0, pitch: 0.0, distance: 4.0, target: [0.0; 3] }).unwrap();
     s.stroke(brush(r#"{"radius": 0.3, "space": "object", "hardness": 1, "color": [1, 1, 0]}"#), &[[160.0, 120.0]])
         .unwrap();
@@ -253,10 +257,62 @@ async fn malformed_requests_are_refused_with_their_reason() {
 
 #[test]
 fn models_that_cannot_be_painted_are_refused_clearly() {
-    let missing = Session::open(Path::new("no/such/model.obj"), 0, 64, VIEW).err().unwrap().to_string();
+    let missing = Session::open(Path::new("no/such/model.obj"), &opening(0, 64)).err().unwrap().to_string();
     assert!(missing.contains("model.obj"), "{missing}");
-    let beyond = Session::open(&repo().join("scenes/paint_sphere.toml"), 3, 64, VIEW).err().unwrap().to_string();
+    let beyond = Session::open(&repo().join("scenes/paint_sphere.toml"), &opening(3, 64)).err().unwrap().to_string();
     assert!(beyond.contains("object") && beyond.contains('1'), "{beyond}");
-    let huge = Session::open(&repo().join("scenes/paint_sphere.toml"), 0, 100_000, VIEW).err().unwrap().to_string();
+    let huge = Session::open(&repo().join("scenes/paint_sphere.toml"), &opening(0, 100_000)).err().unwrap().to_string();
     assert!(huge.contains("atlas_size"), "{huge}");
+}
+
+/// A cube without texture coordinates gets an atlas of six charts; a stroke on its edge paints both faces
+/// up to the edge (the seam between their charts shows no gap in the frame); the saved scene (its model
+/// written with the atlas's (u,v)) renders what was shown and resumes.
+#[test]
+fn a_model_without_texture_coordinates_gets_an_atlas_and_paints_across_its_seams() {
+    let dir = temp_dir("unwrap");
+    let mut obj = String::from("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 0 1\nv 1 0 1\nv 0 1 1\nv 1 1 1\n");
+    for [a, b, c, d] in [[1, 3, 4, 2], [5, 6, 8, 7], [1, 2, 6, 5], [3, 7, 8, 4], [1, 5, 7, 3], [2, 4, 8, 6]] {
+        obj += &format!("f {a} {b} {c}\nf {a} {c} {d}\n");
+    }
+    std::fs::write(dir.join("cube.obj"), obj).unwrap();
+    let mut s = Session::open(&dir.join("cube.obj"), &opening(0, 256)).unwrap();
+    let unwrapped = s.state().unwrapped.expect("an atlas is laid out");
+    assert_eq!(unwrapped.charts, 6);
+    assert!(unwrapped.stretch_max < 1.001 && unwrapped.utilisation > 0.3);
+    let orbit = Orbit { yaw: 45.0, pitch: 30.0, distance: 4.0, target: [0.5; 3] };
+    s.set_camera(orbit).unwrap();
+    let before = s.frame().unwrap().srgb8();
+    // The view's centre sees the edge x = 1, z = 1 (at y = 0.91).
+    s.stroke(brush(r#"{"radius": 0.2, "space": "object", "hardness": 1, "color": [1, 1, 0]}"#), &[[160.0, 120.0]])
+        .unwrap();
+    let after = s.frame().unwrap().srgb8();
+    let camera = wrinkle::CameraDesc::looking_at(orbit.eye(), Vec3::splat(0.5)).unwrap();
+    let camera = wrinkle::CameraDesc { projection: wrinkle::Projection::Perspective { fov_y: 35.0 }, ..camera };
+    let screen = camera.screen(VIEW.0, VIEW.1);
+    for p in
+        [Vec3::new(1.0, 0.85, 0.97), Vec3::new(0.97, 0.85, 1.0), Vec3::new(1.0, 0.85, 0.9), Vec3::new(0.9, 0.85, 1.0)]
+    {
+        let (at, _) = screen.project(screen.world_to_camera.transform_point3(p));
+        let k = 3 * (at.y as usize * VIEW.0 + at.x as usize);
+        assert!(
+            after[k + 2] + 40 < before[k + 2],
+            "the point {p} by the edge is not painted (blue {} -> {})",
+            before[k + 2],
+            after[k + 2]
+        );
+    }
+    let saved = s.save(Some(&dir.join("saved"))).unwrap();
+    assert!(saved.files.iter().any(|f| f.ends_with("model.obj")));
+    let scene = Scene::load(&saved.scene).unwrap();
+    let mut shown = scene;
+    (shown.camera.eye, shown.camera.look_at, shown.camera.up) = (orbit.eye(), Vec3::splat(0.5), Vec3::Y);
+    let rendered =
+        wrinkle::render(&shown, &RenderOptions { width: VIEW.0, height: VIEW.1, ..RenderOptions::default() });
+    let differing = after.iter().zip(rendered.unwrap().srgb8()).filter(|(a, b)| **a != *b).count();
+    assert_eq!(differing, 0, "{differing} channels differ between the page and the saved scene");
+    let resumed = Session::open(&saved.scene, &opening(0, 64)).unwrap();
+    assert!(resumed.state().unwrapped.is_none(), "the saved model has its atlas's coordinates");
+    assert_eq!(resumed.atlas().codes(Channel::Color), s.atlas().codes(Channel::Color));
+    let _ = std::fs::remove_dir_all(&dir);
 }

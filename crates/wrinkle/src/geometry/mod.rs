@@ -11,6 +11,7 @@ pub mod shape;
 pub mod surface;
 pub(crate) mod tessellate;
 pub mod transform;
+pub mod unwrap;
 
 pub use mesh::TriangleMesh;
 pub use shape::{Instance, MeshPart, Primitive, Shape};

@@ -45,8 +45,8 @@ impl Scene {
 
 /// OBJ text of named meshes: shared positions, then per mesh its texture coordinates (set 0), normals
 /// and faces. Numbers in Rust's shortest form that reads back to the same f32.
-fn write_obj(meshes: &[(String, TriangleMesh)]) -> String {
-    let mut out = String::from("# Written by wrinkle tessellate: positions shared where bit for bit equal.\n");
+pub fn write_obj(meshes: &[(String, TriangleMesh)]) -> String {
+    let mut out = String::from("# Written by wrinkle: positions shared where bit for bit equal.\n");
     let mut index: HashMap<[u32; 3], usize> = HashMap::new();
     let mut position_of = Vec::with_capacity(meshes.len());
     for (_, mesh) in meshes {

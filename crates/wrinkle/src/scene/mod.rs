@@ -17,6 +17,7 @@ mod procedural;
 mod texture;
 
 pub use animation::{Animation, Interpolation};
+pub use export::write_obj;
 pub use load::DEFAULT_SCENE;
 pub use mapping::parse_mapping_text;
 

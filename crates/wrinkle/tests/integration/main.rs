@@ -30,3 +30,4 @@ mod texel_location;
 mod texture_files;
 mod transparency;
 mod transparent_background;
+mod unwrap;
