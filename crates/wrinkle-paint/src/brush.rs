@@ -140,6 +140,9 @@ pub struct Stroke {
     touched: HashMap<u32, (f32, u32)>,
     /// Where the last dab was laid (view pixels): the next is `spacing` radii along.
     pub last_dab: Option<glam::Vec2>,
+    /// The object-space point of the last dab that met the surface: the next dab sweeps the brush from it,
+    /// so the stroke's edge is straight rather than scalloped by its dabs.
+    pub last_centre: Option<Vec3>,
 }
 
 /// One stroke's change of the atlas: enough to undo and redo it exactly.
@@ -152,7 +155,7 @@ pub struct Edit {
 
 impl Stroke {
     pub fn new(brush: Brush) -> Stroke {
-        Stroke { brush, touched: HashMap::new(), last_dab: None }
+        Stroke { brush, touched: HashMap::new(), last_dab: None, last_centre: None }
     }
 
     /// Raises texel `texel`'s weight to `weight` if that is more than it had this stroke, and writes it.

@@ -336,31 +336,37 @@ impl Session {
         self.model.scene.camera.screen(self.width, self.height)
     }
 
-    /// One dab at view position `at`: the texels whose points lie within the brush's sphere about the point
-    /// seen there, and are seen themselves, receive the brush's weight (and their mirror images with
-    /// `mirror_x`).
+    /// One dab at view position `at`: the texels whose points lie within the brush's radius of the point seen
+    /// there (or of the segment swept from the last dab's point, where that is within two radii), and are
+    /// seen themselves, receive the brush's weight (and their mirror images with `mirror_x`).
     fn dab(&mut self, at: Vec2) {
         let Some(frame) = &self.frame else { return };
         let Some(stroke) = &mut self.stroke else { return };
         let camera = self.model.scene.camera.screen(self.width, self.height);
         let object_to_world = self.model.object_to_world();
-        let world_to_object = object_to_world.inverse();
         let seen = Seen { frame, camera: &camera, object: self.model.object as u32, object_to_world };
-        let Some(world) = seen.point_under(at) else { return };
-        let centre = world_to_object.transform_point3(world);
+        let Some(world) = seen.point_under(at) else {
+            stroke.last_centre = None;
+            return;
+        };
+        let centre = object_to_world.inverse().transform_point3(world);
         let scale = object_to_world.matrix3.x_axis.length();
         let radius = match stroke.brush.space {
             RadiusSpace::Screen => stroke.brush.radius / camera.pixels_per_unit(world).max(1e-12) / scale,
             RadiusSpace::Object => stroke.brush.radius,
         };
+        let from = stroke.last_centre.filter(|c| c.distance(centre) < 2.0 * radius).unwrap_or(centre);
+        stroke.last_centre = Some(centre);
         let mirror = |p: Vec3| Vec3::new(-p.x, p.y, p.z);
         let mut hits: Vec<(u32, f32)> = Vec::new();
         let mirrors: &[bool] = if stroke.brush.mirror_x { &[false, true] } else { &[false] };
         for &mirrored in mirrors {
-            let c = if mirrored { mirror(centre) } else { centre };
-            self.model.points.within(c, radius, |texel, p, d| {
+            let (a, b) = if mirrored { (mirror(from), mirror(centre)) } else { (from, centre) };
+            let reach = radius + 0.5 * a.distance(b);
+            self.model.points.within((a + b) * 0.5, reach, |texel, p, _| {
+                let d = distance_to_segment(p, a, b);
                 let q = if mirrored { mirror(p) } else { p };
-                if seen.visible(q) {
+                if d < radius && seen.visible(q) {
                     hits.push((texel, stroke.brush.weight(d, radius)));
                 }
             });
@@ -417,6 +423,13 @@ impl Session {
         files.push(scene.clone());
         Ok(Saved { scene, files })
     }
+}
+
+/// The distance from `p` to the segment from `a` to `b`.
+fn distance_to_segment(p: Vec3, a: Vec3, b: Vec3) -> f32 {
+    let ab = b - a;
+    let t = if ab.length_squared() > 0.0 { ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0) } else { 0.0 };
+    p.distance(a + ab * t)
 }
 
 pub fn is_scene_file(path: &Path) -> bool {

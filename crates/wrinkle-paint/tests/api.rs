@@ -316,3 +316,42 @@ fn a_model_without_texture_coordinates_gets_an_atlas_and_paints_across_its_seams
     assert_eq!(resumed.atlas().codes(Channel::Color), s.atlas().codes(Channel::Color));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A stroke is the brush swept between its dabs' points: each texel takes the falloff of its distance to the
+/// segment between them, not to the nearer dab (whose envelope scallops the stroke's edge, and shows as
+/// beads in the bumps of a height stroke).
+#[test]
+fn a_stroke_sweeps_the_brush_between_its_dabs() {
+    let size = 512;
+    let mut s = sphere_session(size);
+    let (w, h) = VIEW;
+    // Two dabs exactly (spacing one radius: 20 pixels), symmetric about the view's centre.
+    let stroke = brush(r#"{"radius": 20, "spacing": 1, "hardness": 0, "channel": "specular", "value": 1.0}"#);
+    s.stroke(stroke.clone(), &[[150.0, 120.0], [170.0, 120.0]]).unwrap();
+    let scale = 0.5 * h as f32 / (17.5f32).to_radians().tan();
+    let eye = Vec3::new(0.0, 0.0, 4.0);
+    let hit = |x: f32, y: f32| {
+        let dir = Vec3::new((x + 0.5 - w as f32 / 2.0) / scale, -(y + 0.5 - h as f32 / 2.0) / scale, -1.0).normalize();
+        let b = eye.dot(dir);
+        eye + dir * (-b - (b * b - eye.length_squared() + 1.0).sqrt())
+    };
+    let (a, b) = (hit(150.0, 120.0), hit(170.0, 120.0));
+    let radius = 20.0 * (eye.z - b.z) / scale;
+    let sphere = Surface::Sphere { radius: 1.0 };
+    let codes = s.atlas().codes(Channel::Specular);
+    let mut checked = 0;
+    for k in 0..size * size {
+        let (u, v) = texel_uv(k, size);
+        let p = sphere.position(u, v);
+        let ab = b - a;
+        let t = ((p - a).dot(ab) / ab.length_squared()).clamp(0.0, 1.0);
+        let d = p.distance(a + ab * t);
+        if d > 0.97 * radius {
+            continue;
+        }
+        let expected = Channel::Specular.encode(Vec3::splat(0.3).lerp(Vec3::ONE, stroke.weight(d, radius)));
+        assert!(codes[k].abs_diff(expected) <= 2, "texel at ({u}, {v}): {} against {expected}", codes[k]);
+        checked += 1;
+    }
+    assert!(checked > 1000, "{checked}");
+}
