@@ -355,3 +355,37 @@ fn a_stroke_sweeps_the_brush_between_its_dabs() {
     }
     assert!(checked > 1000, "{checked}");
 }
+
+/// With x-mirror symmetry a dab on the sphere's right paints its mirror image on the left (x -> -x in
+/// object space), and nothing else.
+#[test]
+fn x_mirror_paints_the_mirror_image_too() {
+    let size = 256;
+    let mut s = sphere_session(size);
+    let before = s.atlas().codes(Channel::Color).to_vec();
+    let (w, h) = VIEW;
+    s.stroke(brush(r#"{"radius": 15, "hardness": 1, "color": [0, 1, 1], "mirror_x": true}"#), &[[200.0, 110.0]]).unwrap();
+    let scale = 0.5 * h as f32 / (17.5f32).to_radians().tan();
+    let eye = Vec3::new(0.0, 0.0, 4.0);
+    let dir = Vec3::new((200.5 - w as f32 / 2.0) / scale, -(110.5 - h as f32 / 2.0) / scale, -1.0).normalize();
+    let b = eye.dot(dir);
+    let hit = eye + dir * (-b - (b * b - eye.length_squared() + 1.0).sqrt());
+    let radius = 15.0 * (eye.z - hit.z) / scale;
+    let mirrored = Vec3::new(-hit.x, hit.y, hit.z);
+    let sphere = Surface::Sphere { radius: 1.0 };
+    let after = s.atlas().codes(Channel::Color);
+    let (mut left, mut right) = (0usize, 0usize);
+    for k in 0..size * size {
+        let (u, v) = texel_uv(k, size);
+        let p = sphere.position(u, v);
+        let painted = after[k] != before[k];
+        let near = p.distance(hit).min(p.distance(mirrored));
+        if near < 0.97 * radius {
+            assert!(painted, "texel at ({u}, {v}) within the brush or its mirror image is not painted");
+            *(if p.x < 0.0 { &mut left } else { &mut right }) += 1;
+        } else if near > 1.03 * radius {
+            assert!(!painted, "texel at ({u}, {v}) outside both is painted");
+        }
+    }
+    assert!(left > 50 && left.abs_diff(right) * 10 < right, "left {left}, right {right}");
+}
