@@ -89,7 +89,12 @@ fn bench(args: &PaintArgs, steps: usize) -> Result<()> {
     let times = wrinkle_paint::bench::measure(&mut session, steps, 30.0)?;
     let (w, h) = args.view;
     println!("wrinkle paint --bench: {w}x{h}, atlas {}, {} threads", args.atlas_size, rayon::current_num_threads());
-    for (name, mut t) in [("orbit frame (render + JPEG)", times.orbit), ("dab of 30 px + frame", times.dab)] {
+    let rows = [
+        ("orbit frame (render + JPEG)", times.orbit),
+        ("dab of 30 px + frame", times.colour_dab),
+        ("height dab of 30 px + frame", times.height_dab),
+    ];
+    for (name, mut t) in rows {
         t.sort_by(f64::total_cmp);
         let median = t[t.len() / 2];
         println!("{name:30} median {median:7.2} ms  best {:7.2} ms  ({:.1} per second)", t[0], 1e3 / median);

@@ -389,3 +389,19 @@ fn x_mirror_paints_the_mirror_image_too() {
     }
     assert!(left > 50 && left.abs_diff(right) * 10 < right, "left {left}, right {right}");
 }
+
+/// The recovery copy: written once the atlas changes (not before), a scene that resumes what was painted.
+#[test]
+fn a_recovery_copy_keeps_what_was_painted() {
+    let dir = temp_dir("recovery");
+    let mut s = sphere_session(64);
+    s.save_dir = dir.clone();
+    assert_eq!(s.write_recovery().unwrap(), None, "nothing painted, nothing written");
+    s.stroke(brush(r#"{"radius": 40, "color": [1, 0, 1]}"#), &[[160.0, 120.0]]).unwrap();
+    let scene = s.write_recovery().unwrap().expect("a copy after a stroke");
+    assert!(scene.starts_with(dir.join(".wrinkle-paint-recovery")));
+    assert_eq!(s.write_recovery().unwrap(), None, "unchanged since the copy");
+    let resumed = Session::open(&scene, &opening(0, 64)).unwrap();
+    assert_eq!(resumed.atlas().codes(Channel::Color), s.atlas().codes(Channel::Color));
+    let _ = std::fs::remove_dir_all(&dir);
+}
