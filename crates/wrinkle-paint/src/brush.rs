@@ -172,7 +172,7 @@ impl Stroke {
         entry.0 = weight;
         let before = channel.decode(entry.1);
         let target = self.brush.target(channel.decode(atlas.loaded(channel, texel)));
-        atlas.codes_mut(channel)[texel as usize] = channel.encode(before.lerp(target, weight));
+        atlas.set(channel, texel, channel.encode(before.lerp(target, weight)));
     }
 
     /// The stroke's change: the texels whose code differs from before it.
@@ -194,10 +194,9 @@ impl Stroke {
 impl Edit {
     /// Puts the texels back as they were before (`undo`) or after the stroke.
     pub fn apply(&self, atlas: &mut Atlas, undo: bool) {
-        let codes = atlas.codes_mut(self.channel);
         let values = if undo { &self.before } else { &self.after };
         for (&t, &v) in self.texels.iter().zip(values) {
-            codes[t as usize] = v;
+            atlas.set(self.channel, t, v);
         }
     }
 }

@@ -7,6 +7,7 @@ use std::path::Path;
 use std::sync::Arc;
 use wrinkle::image::color::{linear_to_srgb, srgb8_decode_table};
 use wrinkle::image::{io, GreyImage, Image};
+use wrinkle::texture::EditableTexture;
 use wrinkle::{BumpTable, FilteredTexture, Result, TextureOptions};
 
 /// What a channel of the atlas paints.
@@ -85,12 +86,15 @@ fn decode_table() -> &'static [f32; 256] {
 }
 
 /// The four channels of a square atlas, row 0 at the top (v = 1), and what each held when it was loaded
-/// (the eraser's target).
-#[derive(Clone)]
+/// (the eraser's target); the image channels' textures, brought up to date where texels changed.
 pub struct Atlas {
     pub size: usize,
     codes: [Vec<u32>; 4],
     loaded: [Vec<u32>; 4],
+    /// Per channel: the textures of colour, specular and opacity (built on first use).
+    textures: [Option<EditableTexture>; 4],
+    /// Per channel: the columns and rows (x0, y0, x1, y1) changed since its texture was last brought up to date.
+    changed: [Option<(usize, usize, usize, usize)>; 4],
 }
 
 impl Atlas {
@@ -101,15 +105,22 @@ impl Atlas {
             assert_eq!(texels.len(), size * size, "a channel's texels fill the atlas");
             codes[channel.index()] = texels;
         }
-        Atlas { size, loaded: codes.clone(), codes }
+        Atlas { size, loaded: codes.clone(), codes, textures: Default::default(), changed: [None; 4] }
     }
 
     pub fn codes(&self, channel: Channel) -> &[u32] {
         &self.codes[channel.index()]
     }
 
-    pub fn codes_mut(&mut self, channel: Channel) -> &mut [u32] {
-        &mut self.codes[channel.index()]
+    /// Writes texel `texel`'s code.
+    pub fn set(&mut self, channel: Channel, texel: u32, code: u32) {
+        let c = channel.index();
+        self.codes[c][texel as usize] = code;
+        let (x, y) = (texel as usize % self.size, texel as usize / self.size);
+        self.changed[c] = Some(match self.changed[c] {
+            None => (x, y, x + 1, y + 1),
+            Some((x0, y0, x1, y1)) => (x0.min(x), y0.min(y), x1.max(x + 1), y1.max(y + 1)),
+        });
     }
 
     /// What the texel held when the atlas was loaded.
@@ -119,14 +130,27 @@ impl Atlas {
 
     /// The colour channel as the renderer's 8-bit sRGB texture, the specular or opacity channel as a linear
     /// grey one: what a scene layer reading the saved file holds.
-    pub fn texture(&self, channel: Channel) -> Arc<FilteredTexture> {
-        let codes = self.codes(channel);
-        let pixels: Vec<[u8; 4]> = match channel {
-            Channel::Color => codes.iter().map(|c| c.to_le_bytes()).collect(),
-            _ => codes.iter().map(|&c| [c as u8, c as u8, c as u8, 255]).collect(),
+    /// Built once, then brought up to date only where texels changed (`EditableTexture`): a dab costs what it
+    /// covers, not the atlas's size.
+    pub fn texture(&mut self, channel: Channel) -> Arc<FilteredTexture> {
+        let c = channel.index();
+        let bytes = |code: u32| match channel {
+            Channel::Color => code.to_le_bytes(),
+            _ => [code as u8, code as u8, code as u8, 255],
         };
-        let image = Image { width: self.size, height: self.size, pixels };
-        Arc::new(FilteredTexture::from_rgba8(&image, channel.is_colour(), TextureOptions::default()))
+        let (size, codes) = (self.size, &self.codes[c]);
+        let texel = |i: usize, row: usize| bytes(codes[row * size + i]);
+        match (&mut self.textures[c], self.changed[c].take()) {
+            (Some(texture), Some(region)) => texture.update(region, texel),
+            (Some(_), None) => {}
+            (none, _) => {
+                let pixels: Vec<[u8; 4]> = codes.iter().map(|&code| bytes(code)).collect();
+                let image = Image { width: size, height: size, pixels };
+                let built = EditableTexture::new(&image, channel.is_colour(), TextureOptions::default());
+                *none = Some(built.expect("the atlas's channels are opaque"));
+            }
+        }
+        Arc::new(self.textures[c].as_ref().expect("built above").texture())
     }
 
     /// The height channel as Blinn's bump table (value / 65535, as a 16-bit height file reads).

@@ -94,7 +94,7 @@ impl Model {
             channels.push((Channel::Color, colour_start(under, size)));
         }
         let specular = under.phong.specular.clamp(0.0, 1.0);
-        let atlas = Atlas::new(
+        let mut atlas = Atlas::new(
             size,
             |c| match c {
                 Channel::Color => under.color,
@@ -105,13 +105,13 @@ impl Model {
             channels,
         );
         let mut model = Model { scene, object, materials, points, document, base, stem, bump_scale, unwrapped };
-        model.install(&atlas)?;
+        model.install(&mut atlas)?;
         Ok((model, atlas))
     }
 
     /// Draws the painted object's materials with the atlas: each channel a `replace` layer (colour on kd,
     /// specular on ks, opacity on opacity, under the alpha test) and the height as the bump table.
-    fn install(&mut self, atlas: &Atlas) -> Result<()> {
+    fn install(&mut self, atlas: &mut Atlas) -> Result<()> {
         let layers =
             [(Channel::Color, Target::Kd), (Channel::Specular, Target::Ks), (Channel::Opacity, Target::Opacity)].map(
                 |(channel, target)| Layer {
@@ -133,7 +133,7 @@ impl Model {
     }
 
     /// Puts a channel's current texels into the painted materials.
-    pub fn repaint(&mut self, atlas: &Atlas, channel: Channel) {
+    pub fn repaint(&mut self, atlas: &mut Atlas, channel: Channel) {
         let layer = match channel {
             Channel::Height => {
                 let table = atlas.bump_table();

@@ -269,7 +269,7 @@ impl Session {
         if let Some(stroke) = &mut self.stroke {
             stroke.last_dab = dabs.last().copied();
             let channel = stroke.brush.channel;
-            self.model.repaint(&self.atlas, channel);
+            self.model.repaint(&mut self.atlas, channel);
         }
         self.frame = None;
         Ok(())
@@ -314,7 +314,7 @@ impl Session {
         edit.apply(&mut self.atlas, !redo);
         let (channel, changed) = (edit.channel, edit.texels.len());
         to.push(edit);
-        self.model.repaint(&self.atlas, channel);
+        self.model.repaint(&mut self.atlas, channel);
         self.frame = None;
         self.unsaved = true;
         changed

@@ -364,7 +364,8 @@ fn x_mirror_paints_the_mirror_image_too() {
     let mut s = sphere_session(size);
     let before = s.atlas().codes(Channel::Color).to_vec();
     let (w, h) = VIEW;
-    s.stroke(brush(r#"{"radius": 15, "hardness": 1, "color": [0, 1, 1], "mirror_x": true}"#), &[[200.0, 110.0]]).unwrap();
+    s.stroke(brush(r#"{"radius": 15, "hardness": 1, "color": [0, 1, 1], "mirror_x": true}"#), &[[200.0, 110.0]])
+        .unwrap();
     let scale = 0.5 * h as f32 / (17.5f32).to_radians().tan();
     let eye = Vec3::new(0.0, 0.0, 4.0);
     let dir = Vec3::new((200.5 - w as f32 / 2.0) / scale, -(110.5 - h as f32 / 2.0) / scale, -1.0).normalize();

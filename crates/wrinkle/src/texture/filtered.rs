@@ -93,6 +93,11 @@ impl FilteredTexture {
         let encoder = SrgbEncoder::new();
         let levels =
             std::iter::once(base).chain(float.iter().skip(1).map(|l| Rgba8Plane::encode(l, srgb, &encoder))).collect();
+        FilteredTexture::from_byte_levels(levels, options)
+    }
+
+    /// A texture of 8-bit levels already built (level 0 first, each the next level down).
+    pub(crate) fn from_byte_levels(levels: Vec<Rgba8Plane>, options: TextureOptions) -> Self {
         let data = Filterable::from_levels(levels, options.mip_filter, options.wrap);
         FilteredTexture::of(Levels::Bytes(data), options)
     }
@@ -105,6 +110,15 @@ impl FilteredTexture {
         let mut planes: Vec<Plane<Vec4>> = levels[..levels.len() - 1].iter().map(plane).collect();
         planes.extend(build_rgba_levels(plane(&levels[levels.len() - 1]), options.mip_filter, options.wrap));
         FilteredTexture::of(Levels::Float(Filterable::from_levels(planes, options.mip_filter, options.wrap)), options)
+    }
+
+    /// The stored 8-bit levels (none for a float texture): what the tests compare level by level.
+    #[cfg(test)]
+    pub(crate) fn byte_levels(&self) -> &[Rgba8Plane] {
+        match &*self.data {
+            Levels::Bytes(d) => d.levels(),
+            Levels::Float(_) => &[],
+        }
     }
 
     fn of(data: Levels, options: TextureOptions) -> Self {

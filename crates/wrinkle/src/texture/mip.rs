@@ -76,7 +76,7 @@ fn bessel_i0(x: f32) -> f32 {
 }
 
 /// The source taps (index, weight) of every texel of an axis resampled from `n` to `nn` texels.
-fn axis_taps(n: usize, nn: usize, filter: MipFilter, wrap: Wrap) -> Vec<Vec<(usize, f32)>> {
+pub(crate) fn axis_taps(n: usize, nn: usize, filter: MipFilter, wrap: Wrap) -> Vec<Vec<(usize, f32)>> {
     if n == nn {
         return (0..n).map(|i| vec![(i, 1.0)]).collect();
     }

@@ -4,6 +4,7 @@
 pub(crate) mod aniso;
 pub(crate) mod colour_table;
 pub mod context;
+pub mod editable;
 pub(crate) mod ewa;
 pub mod filter;
 pub mod filtered;
@@ -20,6 +21,7 @@ pub(crate) mod trilinear8;
 pub mod wrap;
 
 pub use context::{LookupContext, LookupContext8, PrimitiveId, SurfaceLanes, UvSet, UvSet8};
+pub use editable::EditableTexture;
 pub use filter::{Filter, FilterOptions, Filterable};
 pub use filtered::{FilteredTexture, TextureOptions};
 pub use footprint::{Footprint, Footprint8};

@@ -72,6 +72,14 @@ fn column_part(i: usize) -> usize {
     (i / BLOCK) * BLOCK * BLOCK + i % BLOCK
 }
 
+/// A linear texel as 8 bits: the colour sRGB-encoded where `srgb`, alpha (and linear colour) as unorm.
+#[inline]
+pub fn encode_texel(v: Vec4, srgb: bool, encoder: &SrgbEncoder) -> [u8; 4] {
+    let unorm = |x: f32| (x.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+    let colour = |x: f32| if srgb { encoder.encode(x) } else { unorm(x) };
+    [colour(v.x), colour(v.y), colour(v.z), unorm(v.w)]
+}
+
 impl Rgba8Plane {
     /// Bytes as stored in an image (row 0 at the top); `srgb`: the colour channels are sRGB-encoded.
     pub fn from_top_rows(width: usize, height: usize, rows: &[[u8; 4]], srgb: bool) -> Self {
@@ -80,15 +88,13 @@ impl Rgba8Plane {
 
     /// Linear texels encoded to 8 bits.
     pub fn encode(plane: &Plane<Vec4>, srgb: bool, encoder: &SrgbEncoder) -> Self {
-        let unorm = |x: f32| (x.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
-        let colour = |x: f32| if srgb { encoder.encode(x) } else { unorm(x) };
-        Rgba8Plane::from_rows(
-            plane.width,
-            plane.height,
-            srgb,
-            |j| plane.row(j),
-            |v| [colour(v.x), colour(v.y), colour(v.z), unorm(v.w)],
-        )
+        Rgba8Plane::from_rows(plane.width, plane.height, srgb, |j| plane.row(j), |v| encode_texel(*v, srgb, encoder))
+    }
+
+    /// Replaces texel (i, j) (j from the bottom) with 8-bit RGBA as stored.
+    pub fn set(&mut self, i: usize, j: usize, texel: [u8; 4]) {
+        let k = block_index(i, j, self.blocks_per_row);
+        Block::texels_mut(&mut self.blocks)[k] = texel;
     }
 
     /// Stores the rows `row(j)` (j from the bottom) in blocks, each texel through `convert`; block rows in

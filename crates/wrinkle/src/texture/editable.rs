@@ -1,0 +1,196 @@
+//! An 8-bit texture that changes a little at a time (a paint stroke): its linear pyramid is kept beside the
+//! stored one, so a change recomputes, level by level, only the texels whose filter taps read changed ones,
+//! with the same arithmetic in the same order as a whole build. The result equals
+//! `FilteredTexture::from_rgba8` of the whole changed image bit for bit, at a cost that follows the change.
+
+use super::filtered::{FilteredTexture, TextureOptions};
+use super::mip::{axis_taps, build_levels};
+use super::rgba8::{encode_texel, Rgba8Plane};
+use super::texel::{Plane, TexelSource};
+use crate::image::color::SrgbEncoder;
+use crate::image::ImageRef;
+use crate::{Error, Result};
+use glam::Vec4;
+
+pub struct EditableTexture {
+    /// Level 0 decoded, then each coarser level in linear light, as `from_rgba8` builds them.
+    linear: Vec<Plane<Vec4>>,
+    /// The levels as stored (level 0 the bytes given).
+    stored: Vec<Rgba8Plane>,
+    /// Each coarser level's taps: (columns, rows) of the level before.
+    taps: Vec<(Vec<Vec<(usize, f32)>>, Vec<Vec<(usize, f32)>>)>,
+    srgb: bool,
+    options: TextureOptions,
+    encoder: SrgbEncoder,
+}
+
+/// Texels of one level, half-open, row 0 at the bottom.
+#[derive(Clone, Copy, Debug)]
+struct Span {
+    x: (usize, usize),
+    y: (usize, usize),
+}
+
+impl EditableTexture {
+    /// An opaque texture of 8-bit RGBA bytes as stored (row 0 at the top); `srgb` as for `from_rgba8`.
+    pub fn new<'a>(image: impl Into<ImageRef<'a, [u8; 4]>>, srgb: bool, options: TextureOptions) -> Result<Self> {
+        let image = image.into();
+        if image.pixels().iter().any(|t| t[3] != 255) {
+            return Err(Error::Invalid("an editable texture is opaque: every alpha must be 255".into()));
+        }
+        let base = Rgba8Plane::from_top_rows(image.width(), image.height(), image.pixels(), srgb);
+        let linear = build_levels(base.decode(), options.mip_filter, options.wrap);
+        let encoder = SrgbEncoder::new();
+        let stored =
+            std::iter::once(base).chain(linear.iter().skip(1).map(|l| Rgba8Plane::encode(l, srgb, &encoder))).collect();
+        let taps = linear
+            .windows(2)
+            .map(|pair| {
+                let (from, to) = (&pair[0], &pair[1]);
+                (
+                    axis_taps(from.width, to.width, options.mip_filter, options.wrap[0]),
+                    axis_taps(from.height, to.height, options.mip_filter, options.wrap[1]),
+                )
+            })
+            .collect();
+        Ok(EditableTexture { linear, stored, taps, srgb, options, encoder })
+    }
+
+    /// Replaces level 0's texels in columns `x0..x1` and rows `y0..y1` (row 0 at the top) with `texel(i, row)`
+    /// and brings every coarser level up to date.
+    pub fn update(&mut self, (x0, y0, x1, y1): (usize, usize, usize, usize), texel: impl Fn(usize, usize) -> [u8; 4]) {
+        let (w, h) = (self.linear[0].width, self.linear[0].height);
+        let (x1, y1) = (x1.min(w), y1.min(h));
+        if x0 >= x1 || y0 >= y1 {
+            return;
+        }
+        for row in y0..y1 {
+            let j = h - 1 - row;
+            for i in x0..x1 {
+                let t = texel(i, row);
+                assert_eq!(t[3], 255, "an editable texture stays opaque");
+                self.stored[0].set(i, j, t);
+                self.linear[0].texels[j * w + i] = self.stored[0].texel(i, j);
+            }
+        }
+        let mut span = Span { x: (x0, x1), y: (h - y1, h - y0) };
+        for level in 1..self.linear.len() {
+            span = self.resample_span(level, span);
+        }
+    }
+
+    /// Recomputes the texels of `level` that read `changed` texels of the level before: their span.
+    fn resample_span(&mut self, level: usize, changed: Span) -> Span {
+        let (cols, rows) = &self.taps[level - 1];
+        let reads = |taps: &[(usize, f32)], (lo, hi): (usize, usize)| taps.iter().any(|&(k, _)| k >= lo && k < hi);
+        let xs: Vec<usize> = (0..cols.len()).filter(|&x| reads(&cols[x], changed.x)).collect();
+        let ys: Vec<usize> = (0..rows.len()).filter(|&y| reads(&rows[y], changed.y)).collect();
+        let (Some(&x_lo), Some(&x_hi), Some(&y_lo), Some(&y_hi)) = (xs.first(), xs.last(), ys.first(), ys.last())
+        else {
+            return Span { x: (0, 0), y: (0, 0) };
+        };
+        let (before, after) = self.linear.split_at_mut(level);
+        let (src, dst) = (&before[level - 1], &mut after[0]);
+        // Only the columns the changed outputs read (neighbours share some), each summed in the order
+        // `mip::resample` adds it.
+        let mut read: Vec<usize> = xs.iter().flat_map(|&x| cols[x].iter().map(|t| t.0)).collect();
+        read.sort_unstable();
+        read.dedup();
+        let mut combined = vec![Vec4::ZERO; src.width];
+        for &y in &ys {
+            for &i in &read {
+                combined[i] = Vec4::ZERO;
+            }
+            for &(j, wj) in &rows[y] {
+                let row = src.row(j);
+                for &i in &read {
+                    combined[i] = combined[i] + row[i] * wj;
+                }
+            }
+            for &x in &xs {
+                let taps = &cols[x];
+                let mut sum = combined[taps[0].0] * taps[0].1;
+                for &(i, wi) in &taps[1..] {
+                    sum = sum + combined[i] * wi;
+                }
+                dst.texels[y * dst.width + x] = sum;
+                self.stored[level].set(x, y, encode_texel(sum, self.srgb, &self.encoder));
+            }
+        }
+        Span { x: (x_lo, x_hi + 1), y: (y_lo, y_hi + 1) }
+    }
+
+    /// The texture as it stands (its stored levels copied: the texture goes on being drawn while this one
+    /// changes).
+    pub fn texture(&self) -> FilteredTexture {
+        FilteredTexture::from_byte_levels(self.stored.clone(), self.options)
+    }
+
+    /// (width, height) of level 0.
+    pub fn size(&self) -> (usize, usize) {
+        (self.linear[0].width, self.linear[0].height)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::image::Image;
+    use crate::texture::{MipFilter, Wrap};
+
+    fn pseudo_random(k: usize) -> u8 {
+        ((k as u64).wrapping_mul(2654435761) >> 13) as u8
+    }
+
+    /// Random edits of odd-sized images, under each filter and wrap: every level equals the whole build.
+    #[test]
+    fn updates_equal_a_whole_build_bit_for_bit() {
+        for (filter, wrap) in
+            [(MipFilter::Box, Wrap::Repeat), (MipFilter::Kaiser, Wrap::Repeat), (MipFilter::Box, Wrap::Clamp)]
+        {
+            let (w, h) = (203, 130);
+            let mut pixels: Vec<[u8; 4]> =
+                (0..w * h).map(|k| [pseudo_random(k), pseudo_random(3 * k), pseudo_random(7 * k), 255]).collect();
+            let options = TextureOptions { mip_filter: filter, wrap: [wrap; 2], ..TextureOptions::default() };
+            let mut editable =
+                EditableTexture::new(&Image { width: w, height: h, pixels: pixels.clone() }, true, options).unwrap();
+            for (n, region) in
+                [(0, 0, 5, 7), (198, 120, 203, 130), (40, 33, 90, 61), (100, 0, 101, 130)].into_iter().enumerate()
+            {
+                let (x0, y0, x1, y1) = region;
+                for row in y0..y1 {
+                    for i in x0..x1 {
+                        pixels[row * w + i] = [pseudo_random(i + n), 200, pseudo_random(row * 5 + n), 255];
+                    }
+                }
+                editable.update(region, |i, row| pixels[row * w + i]);
+                let whole =
+                    FilteredTexture::from_rgba8(&Image { width: w, height: h, pixels: pixels.clone() }, true, options);
+                let (ours, theirs) = (editable.texture(), whole);
+                assert_eq!(ours.byte_levels().len(), theirs.byte_levels().len());
+                for (l, (a, b)) in ours.byte_levels().iter().zip(theirs.byte_levels()).enumerate() {
+                    // Decoding is one-to-one on bytes: equal decodings are equal bytes.
+                    assert!(a.decode() == b.decode(), "{filter:?} {wrap:?} after edit {n}: stored level {l} differs");
+                }
+                let rebuilt = build_levels(editable.stored[0].decode(), filter, [wrap; 2]);
+                for (l, (a, b)) in editable.linear.iter().zip(&rebuilt).enumerate() {
+                    let bad = a.texels.iter().zip(&b.texels).position(|(x, y)| x != y);
+                    assert!(
+                        bad.is_none(),
+                        "{filter:?} {wrap:?} edit {n}: level {l} texel {bad:?} of {}x{}: {:?} {:?}",
+                        a.width,
+                        a.height,
+                        a.texels[bad.unwrap()],
+                        b.texels[bad.unwrap()]
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn textures_with_alpha_are_refused() {
+        let image = Image { width: 2, height: 1, pixels: vec![[0, 0, 0, 255], [0, 0, 0, 100]] };
+        assert!(EditableTexture::new(&image, false, TextureOptions::default()).is_err());
+    }
+}
