@@ -15,7 +15,8 @@ use wrinkle::geometry::TriangleMesh;
 use wrinkle::mapping::{MappedTexture, Projection};
 use wrinkle::scene::write_obj;
 use wrinkle::shade::{AlphaMode, Layer, Mode, Target};
-use wrinkle::{BumpMap, Error, Mapping, Material, Result, Scene};
+use wrinkle::texture::Texture;
+use wrinkle::{BumpMap, Error, FilteredTexture, Image, Mapping, Material, Result, Scene, TextureOptions};
 
 /// The file a saved scene's unwrapped model is written to, beside it.
 const MODEL_FILE: &str = "model.obj";
@@ -148,6 +149,16 @@ impl Model {
             Channel::Specular => 1,
             Channel::Opacity => 2,
         };
+        // The layers let go of the channel's texture first, so that its levels are changed in place rather
+        // than copied (`EditableTexture`).
+        let blank: Arc<dyn Texture> = Arc::new(FilteredTexture::from_rgba8(
+            &Image { width: 1, height: 1, pixels: vec![[0, 0, 0, 255]] },
+            false,
+            TextureOptions::default(),
+        ));
+        for &m in &self.materials {
+            self.scene.materials[m].layers[layer].source.texture = blank.clone();
+        }
         let texture = atlas.texture(channel);
         for &m in &self.materials {
             self.scene.materials[m].layers[layer].source.texture = texture.clone();

@@ -15,14 +15,18 @@ use glam::Vec4;
 pub struct EditableTexture {
     /// Level 0 decoded, then each coarser level in linear light, as `from_rgba8` builds them.
     linear: Vec<Plane<Vec4>>,
-    /// The levels as stored (level 0 the bytes given).
-    stored: Vec<Rgba8Plane>,
+    /// The texture as stored (level 0 the bytes given); changed in place while no other texture shares its
+    /// levels, else copied first.
+    stored: FilteredTexture,
     /// Each coarser level's taps: (columns, rows) of the level before.
-    taps: Vec<(Vec<Vec<(usize, f32)>>, Vec<Vec<(usize, f32)>>)>,
+    taps: Vec<Taps>,
     srgb: bool,
     options: TextureOptions,
     encoder: SrgbEncoder,
 }
+
+/// A level's filter taps on the level before: (index, weight) per column, then per row.
+type Taps = (Vec<Vec<(usize, f32)>>, Vec<Vec<(usize, f32)>>);
 
 /// Texels of one level, half-open, row 0 at the bottom.
 #[derive(Clone, Copy, Debug)]
@@ -41,8 +45,9 @@ impl EditableTexture {
         let base = Rgba8Plane::from_top_rows(image.width(), image.height(), image.pixels(), srgb);
         let linear = build_levels(base.decode(), options.mip_filter, options.wrap);
         let encoder = SrgbEncoder::new();
-        let stored =
+        let levels =
             std::iter::once(base).chain(linear.iter().skip(1).map(|l| Rgba8Plane::encode(l, srgb, &encoder))).collect();
+        let stored = FilteredTexture::from_byte_levels(levels, options);
         let taps = linear
             .windows(2)
             .map(|pair| {
@@ -64,72 +69,83 @@ impl EditableTexture {
         if x0 >= x1 || y0 >= y1 {
             return;
         }
+        if self.stored.byte_levels_mut().is_none() {
+            self.stored = FilteredTexture::from_byte_levels(self.stored.byte_levels().to_vec(), self.options);
+        }
+        let stored = self.stored.byte_levels_mut().expect("the levels are this texture's own");
         for row in y0..y1 {
             let j = h - 1 - row;
             for i in x0..x1 {
                 let t = texel(i, row);
                 assert_eq!(t[3], 255, "an editable texture stays opaque");
-                self.stored[0].set(i, j, t);
-                self.linear[0].texels[j * w + i] = self.stored[0].texel(i, j);
+                stored[0].set(i, j, t);
+                self.linear[0].texels[j * w + i] = stored[0].texel(i, j);
             }
         }
         let mut span = Span { x: (x0, x1), y: (h - y1, h - y0) };
         for level in 1..self.linear.len() {
-            span = self.resample_span(level, span);
+            span =
+                resample_span(&mut self.linear, stored, &self.taps[level - 1], level, span, (self.srgb, &self.encoder));
         }
     }
 
-    /// Recomputes the texels of `level` that read `changed` texels of the level before: their span.
-    fn resample_span(&mut self, level: usize, changed: Span) -> Span {
-        let (cols, rows) = &self.taps[level - 1];
-        let reads = |taps: &[(usize, f32)], (lo, hi): (usize, usize)| taps.iter().any(|&(k, _)| k >= lo && k < hi);
-        let xs: Vec<usize> = (0..cols.len()).filter(|&x| reads(&cols[x], changed.x)).collect();
-        let ys: Vec<usize> = (0..rows.len()).filter(|&y| reads(&rows[y], changed.y)).collect();
-        let (Some(&x_lo), Some(&x_hi), Some(&y_lo), Some(&y_hi)) = (xs.first(), xs.last(), ys.first(), ys.last())
-        else {
-            return Span { x: (0, 0), y: (0, 0) };
-        };
-        let (before, after) = self.linear.split_at_mut(level);
-        let (src, dst) = (&before[level - 1], &mut after[0]);
-        // Only the columns the changed outputs read (neighbours share some), each summed in the order
-        // `mip::resample` adds it.
-        let mut read: Vec<usize> = xs.iter().flat_map(|&x| cols[x].iter().map(|t| t.0)).collect();
-        read.sort_unstable();
-        read.dedup();
-        let mut combined = vec![Vec4::ZERO; src.width];
-        for &y in &ys {
-            for &i in &read {
-                combined[i] = Vec4::ZERO;
-            }
-            for &(j, wj) in &rows[y] {
-                let row = src.row(j);
-                for &i in &read {
-                    combined[i] = combined[i] + row[i] * wj;
-                }
-            }
-            for &x in &xs {
-                let taps = &cols[x];
-                let mut sum = combined[taps[0].0] * taps[0].1;
-                for &(i, wi) in &taps[1..] {
-                    sum = sum + combined[i] * wi;
-                }
-                dst.texels[y * dst.width + x] = sum;
-                self.stored[level].set(x, y, encode_texel(sum, self.srgb, &self.encoder));
-            }
-        }
-        Span { x: (x_lo, x_hi + 1), y: (y_lo, y_hi + 1) }
-    }
-
-    /// The texture as it stands (its stored levels copied: the texture goes on being drawn while this one
-    /// changes).
+    /// The texture as it stands, sharing its levels: while it is held, the next update copies them first;
+    /// once it is dropped, updates change them in place.
     pub fn texture(&self) -> FilteredTexture {
-        FilteredTexture::from_byte_levels(self.stored.clone(), self.options)
+        self.stored.with_options(self.options.filter)
     }
 
     /// (width, height) of level 0.
     pub fn size(&self) -> (usize, usize) {
         (self.linear[0].width, self.linear[0].height)
     }
+}
+
+/// Recomputes the texels of `level` (linear and stored) that read `changed` texels of the level before, with
+/// `taps` from that level: their span.
+fn resample_span(
+    linear: &mut [Plane<Vec4>],
+    stored: &mut [Rgba8Plane],
+    (cols, rows): &Taps,
+    level: usize,
+    changed: Span,
+    (srgb, encoder): (bool, &SrgbEncoder),
+) -> Span {
+    let reads = |taps: &[(usize, f32)], (lo, hi): (usize, usize)| taps.iter().any(|&(k, _)| k >= lo && k < hi);
+    let xs: Vec<usize> = (0..cols.len()).filter(|&x| reads(&cols[x], changed.x)).collect();
+    let ys: Vec<usize> = (0..rows.len()).filter(|&y| reads(&rows[y], changed.y)).collect();
+    let (Some(&x_lo), Some(&x_hi), Some(&y_lo), Some(&y_hi)) = (xs.first(), xs.last(), ys.first(), ys.last()) else {
+        return Span { x: (0, 0), y: (0, 0) };
+    };
+    let (before, after) = linear.split_at_mut(level);
+    let (src, dst) = (&before[level - 1], &mut after[0]);
+    // Only the columns the changed outputs read (neighbours share some), each summed in the order
+    // `mip::resample` adds it.
+    let mut read: Vec<usize> = xs.iter().flat_map(|&x| cols[x].iter().map(|t| t.0)).collect();
+    read.sort_unstable();
+    read.dedup();
+    let mut combined = vec![Vec4::ZERO; src.width];
+    for &y in &ys {
+        for &i in &read {
+            combined[i] = Vec4::ZERO;
+        }
+        for &(j, wj) in &rows[y] {
+            let row = src.row(j);
+            for &i in &read {
+                combined[i] = combined[i] + row[i] * wj;
+            }
+        }
+        for &x in &xs {
+            let taps = &cols[x];
+            let mut sum = combined[taps[0].0] * taps[0].1;
+            for &(i, wi) in &taps[1..] {
+                sum = sum + combined[i] * wi;
+            }
+            dst.texels[y * dst.width + x] = sum;
+            stored[level].set(x, y, encode_texel(sum, srgb, encoder));
+        }
+    }
+    Span { x: (x_lo, x_hi + 1), y: (y_lo, y_hi + 1) }
 }
 
 #[cfg(test)]
@@ -154,6 +170,10 @@ mod tests {
             let options = TextureOptions { mip_filter: filter, wrap: [wrap; 2], ..TextureOptions::default() };
             let mut editable =
                 EditableTexture::new(&Image { width: w, height: h, pixels: pixels.clone() }, true, options).unwrap();
+            // The texture handed out after an even edit is held through the next update (which must copy
+            // the levels); after an odd one it is dropped (the update changes them in place). Both must give
+            // the whole build.
+            let mut held = None;
             for (n, region) in
                 [(0, 0, 5, 7), (198, 120, 203, 130), (40, 33, 90, 61), (100, 0, 101, 130)].into_iter().enumerate()
             {
@@ -163,26 +183,27 @@ mod tests {
                         pixels[row * w + i] = [pseudo_random(i + n), 200, pseudo_random(row * 5 + n), 255];
                     }
                 }
+                // Alive through this update, which must then leave it as it was.
+                let kept: Option<FilteredTexture> = held.take();
+                let kept_texel = kept.as_ref().map(|t| t.texel(x0, h - y1));
                 editable.update(region, |i, row| pixels[row * w + i]);
+                if let (Some(t), Some(texel)) = (&kept, kept_texel) {
+                    assert_eq!(t.texel(x0, h - y1), texel, "a texture handed out changed under its holder");
+                    assert_ne!(editable.texture().texel(x0, h - y1), texel, "the edit changes the texel");
+                }
+                drop(kept);
                 let whole =
                     FilteredTexture::from_rgba8(&Image { width: w, height: h, pixels: pixels.clone() }, true, options);
-                let (ours, theirs) = (editable.texture(), whole);
-                assert_eq!(ours.byte_levels().len(), theirs.byte_levels().len());
-                for (l, (a, b)) in ours.byte_levels().iter().zip(theirs.byte_levels()).enumerate() {
+                let ours = editable.texture();
+                assert_eq!(ours.byte_levels().len(), whole.byte_levels().len());
+                for (l, (a, b)) in ours.byte_levels().iter().zip(whole.byte_levels()).enumerate() {
                     // Decoding is one-to-one on bytes: equal decodings are equal bytes.
                     assert!(a.decode() == b.decode(), "{filter:?} {wrap:?} after edit {n}: stored level {l} differs");
                 }
-                let rebuilt = build_levels(editable.stored[0].decode(), filter, [wrap; 2]);
-                for (l, (a, b)) in editable.linear.iter().zip(&rebuilt).enumerate() {
-                    let bad = a.texels.iter().zip(&b.texels).position(|(x, y)| x != y);
-                    assert!(
-                        bad.is_none(),
-                        "{filter:?} {wrap:?} edit {n}: level {l} texel {bad:?} of {}x{}: {:?} {:?}",
-                        a.width,
-                        a.height,
-                        a.texels[bad.unwrap()],
-                        b.texels[bad.unwrap()]
-                    );
+                let rebuilt = build_levels(ours.byte_levels()[0].decode(), filter, [wrap; 2]);
+                assert!(editable.linear == rebuilt, "{filter:?} {wrap:?} after edit {n}: the linear levels differ");
+                if n % 2 == 0 {
+                    held = Some(ours);
                 }
             }
         }

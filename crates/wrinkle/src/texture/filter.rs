@@ -118,6 +118,12 @@ impl<S: Resample> Filterable<S> {
         &self.levels
     }
 
+    /// The levels to change in place; the ripmap and summed-area table made of the old ones are dropped.
+    pub fn levels_mut(&mut self) -> &mut [S] {
+        (self.ripmap, self.sat) = (OnceLock::new(), OnceLock::new());
+        &mut self.levels
+    }
+
     pub fn wrap(&self) -> [Wrap; 2] {
         self.wrap
     }

@@ -112,12 +112,19 @@ impl FilteredTexture {
         FilteredTexture::of(Levels::Float(Filterable::from_levels(planes, options.mip_filter, options.wrap)), options)
     }
 
-    /// The stored 8-bit levels (none for a float texture): what the tests compare level by level.
-    #[cfg(test)]
+    /// The stored 8-bit levels (none for a float texture).
     pub(crate) fn byte_levels(&self) -> &[Rgba8Plane] {
         match &*self.data {
             Levels::Bytes(d) => d.levels(),
             Levels::Float(_) => &[],
+        }
+    }
+
+    /// The stored 8-bit levels to change in place, where no other texture shares them.
+    pub(crate) fn byte_levels_mut(&mut self) -> Option<&mut [Rgba8Plane]> {
+        match Arc::get_mut(&mut self.data)? {
+            Levels::Bytes(d) => Some(d.levels_mut()),
+            Levels::Float(_) => None,
         }
     }
 
