@@ -316,8 +316,7 @@ fn build(
         let (source, target) = (meshes[chart.mesh], &mut out[chart.mesh]);
         for (k, &face) in chart.faces.iter().enumerate() {
             let mut uv = [Vec2::ZERO; 3];
-            for corner in 0..3 {
-                let old = source.triangles[face][corner];
+            for (corner, old) in source.triangles[face].into_iter().enumerate() {
                 let texel = chart.at + chart.corners[3 * k + corner] * scale;
                 uv[corner] = Vec2::new(texel.x / side, 1.0 - texel.y / side);
                 let new = *copies[chart.mesh].entry((old, c)).or_insert_with(|| {

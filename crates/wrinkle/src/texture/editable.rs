@@ -132,14 +132,14 @@ fn resample_span(
         for &(j, wj) in &rows[y] {
             let row = src.row(j);
             for &i in &read {
-                combined[i] = combined[i] + row[i] * wj;
+                combined[i] += row[i] * wj;
             }
         }
         for &x in &xs {
             let taps = &cols[x];
             let mut sum = combined[taps[0].0] * taps[0].1;
             for &(i, wi) in &taps[1..] {
-                sum = sum + combined[i] * wi;
+                sum += combined[i] * wi;
             }
             dst.texels[y * dst.width + x] = sum;
             stored[level].set(x, y, encode_texel(sum, srgb, encoder));
