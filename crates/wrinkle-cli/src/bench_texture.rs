@@ -28,7 +28,8 @@ pub struct BenchTextureArgs {
     /// Filters to time (comma-separated).
     #[arg(long, value_delimiter = ',', default_value = "trilinear,aniso,ewa")]
     pub filters: Vec<String>,
-    /// Timed runs per figure; the median is printed.
+    /// Timed runs per figure; the median is printed. A run lasts at least 50 ms: a short set of lookups is
+    /// repeated within it.
     #[arg(long, default_value_t = 3)]
     pub rounds: usize,
     /// Worker threads for the all-cores figures and the pyramid (default: all cores).
@@ -100,12 +101,21 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-/// CPU time this thread has run, in seconds (Linux schedstat), so that one-thread rates on a shared,
-/// loaded machine count the time the thread actually ran, not the time it waited for a core.
+/// CPU time this thread has run, in seconds, so that one-thread rates on a shared, loaded machine count the
+/// time the thread actually ran, not the time it waited for a core. The thread's CPU clock is exact to the
+/// nanosecond when read; /proc/thread-self/schedstat, read before, is brought up to date only at scheduler
+/// ticks, so runs of a few milliseconds read almost no CPU time and reported rates of hundreds of millions
+/// of lookups a second.
 fn thread_cpu_s() -> Option<f64> {
-    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
-    Some(text.split_whitespace().next()?.parse::<f64>().ok()? * 1e-9)
+    let mut t = libc::timespec { tv_sec: 0, tv_nsec: 0 };
+    // SAFETY: clock_gettime writes one timespec, which `t` is.
+    let ok = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut t) } == 0;
+    ok.then(|| t.tv_sec as f64 + t.tv_nsec as f64 * 1e-9)
 }
+
+/// The shortest timed round: a set of lookups that takes less is run again within the round, so that the
+/// clocks' resolution and the start of the workers weigh little in any figure.
+const MIN_ROUND_S: f64 = 0.05;
 
 /// Million lookups per second, on this thread or on every worker: (per wall-clock second, per CPU second of
 /// this thread when on one thread).
@@ -140,19 +150,24 @@ fn timed(
     let (mut wall, mut cpu) = (Vec::new(), Vec::new());
     for _ in 0..rounds {
         let (t, c) = (Instant::now(), thread_cpu_s());
-        let sum = if parallel {
-            set.st
-                .par_chunks(CHUNK)
-                .zip(set.fp.par_chunks(CHUNK))
-                .map(|(s, f)| run(s, f))
-                .reduce(|| Vec4::ZERO, |a, b| a + b)
-        } else {
-            chunks().map(|(s, f)| run(s, f)).sum()
-        };
-        black_box(sum);
-        wall.push(t.elapsed().as_secs_f64());
+        let mut passes = 0;
+        while passes == 0 || t.elapsed().as_secs_f64() < MIN_ROUND_S {
+            let sum = if parallel {
+                set.st
+                    .par_chunks(CHUNK)
+                    .zip(set.fp.par_chunks(CHUNK))
+                    .map(|(s, f)| run(s, f))
+                    .reduce(|| Vec4::ZERO, |a, b| a + b)
+            } else {
+                chunks().map(|(s, f)| run(s, f)).sum()
+            };
+            black_box(sum);
+            passes += 1;
+        }
+        // Seconds per pass over the set.
+        wall.push(t.elapsed().as_secs_f64() / passes as f64);
         if let (Some(c0), Some(c1)) = (c, thread_cpu_s()) {
-            cpu.push(c1 - c0);
+            cpu.push((c1 - c0) / passes as f64);
         }
     }
     let per_s = |v: Vec<f64>| set.st.len() as f64 / median(v) / 1e6;

@@ -752,6 +752,37 @@ fn render_filter_overrides_the_scene_and_unknown_names_fail() {
     assert!(run.stderr.contains("fancy"), "{}", run.stderr);
 }
 
+/// A short run (10^5 lookups on a 512^2 texture, well under a scheduler tick) reports figures a CPU can
+/// reach: a trilinear lookup reads eight texels, so no thread does 150 million a second. Read from the
+/// scheduler's statistics, its CPU time once came to almost nothing and its rate to 418 M/s.
+#[test]
+fn bench_texture_short_runs_report_plausible_rates() {
+    let run = wrinkle(&[
+        "bench-texture",
+        "--size",
+        "512",
+        "--lookups",
+        "100000",
+        "--rounds",
+        "3",
+        "--filters",
+        "trilinear",
+        "--threads",
+        "1",
+    ]);
+    assert_ok(&run);
+    let figure = |line: &str, name: &str| -> f64 {
+        let field = line.split_whitespace().find_map(|w| w.strip_prefix(&format!("{name}="))).unwrap();
+        field.parse().unwrap()
+    };
+    let lines: Vec<&str> = run.stdout.lines().filter(|l| l.starts_with("filter=trilinear")).collect();
+    assert_eq!(lines.len(), 4, "{}", run.stdout);
+    for line in lines {
+        let (wall, cpu) = (figure(line, "mlookups_per_s_1thread"), figure(line, "mlookups_per_cpu_s_1thread"));
+        assert!(wall > 0.0 && cpu >= 0.95 * wall && cpu < 150.0, "{line}");
+    }
+}
+
 #[test]
 fn bench_texture_prints_rates() {
     let run = wrinkle(&["bench-texture", "--size", "64", "--lookups", "1000", "--rounds", "1", "--filters", "sat"]);
