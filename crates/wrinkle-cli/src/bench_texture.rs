@@ -104,8 +104,8 @@ fn median(mut v: Vec<f64>) -> f64 {
 /// CPU time this thread has run, in seconds, so that one-thread rates on a shared, loaded machine count the
 /// time the thread actually ran, not the time it waited for a core. The thread's CPU clock is exact to the
 /// nanosecond when read; /proc/thread-self/schedstat, read before, is brought up to date only at scheduler
-/// ticks, so runs of a few milliseconds read almost no CPU time and reported rates of hundreds of millions
-/// of lookups a second.
+/// ticks, so runs of a few milliseconds read whole ticks of CPU time or none: rates of hundreds of millions
+/// of lookups a second, and infinite ones.
 fn thread_cpu_s() -> Option<f64> {
     let mut t = libc::timespec { tv_sec: 0, tv_nsec: 0 };
     // SAFETY: clock_gettime writes one timespec, which `t` is.

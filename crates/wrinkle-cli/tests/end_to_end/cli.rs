@@ -754,7 +754,8 @@ fn render_filter_overrides_the_scene_and_unknown_names_fail() {
 
 /// A short run (10^5 lookups on a 512^2 texture, well under a scheduler tick) reports figures a CPU can
 /// reach: a trilinear lookup reads eight texels, so no thread does 150 million a second. Read from the
-/// scheduler's statistics, its CPU time once came to almost nothing and its rate to 418 M/s.
+/// scheduler's statistics (brought up to date at its 4 ms ticks), its CPU time came in whole ticks, often
+/// none: rates of 248 M/s and infinite ones.
 #[test]
 fn bench_texture_short_runs_report_plausible_rates() {
     let run = wrinkle(&[
@@ -778,8 +779,12 @@ fn bench_texture_short_runs_report_plausible_rates() {
     let lines: Vec<&str> = run.stdout.lines().filter(|l| l.starts_with("filter=trilinear")).collect();
     assert_eq!(lines.len(), 4, "{}", run.stdout);
     for line in lines {
-        let (wall, cpu) = (figure(line, "mlookups_per_s_1thread"), figure(line, "mlookups_per_cpu_s_1thread"));
-        assert!(wall > 0.0 && cpu >= 0.95 * wall && cpu < 150.0, "{line}");
+        for (wall, cpu) in
+            [("mlookups_per_s_1thread", "mlookups_per_cpu_s_1thread"), ("lanes8_1thread", "lanes8_per_cpu_s_1thread")]
+        {
+            let (wall, cpu) = (figure(line, wall), figure(line, cpu));
+            assert!(wall > 0.0 && cpu >= 0.95 * wall && cpu < 150.0, "{line}");
+        }
     }
 }
 
