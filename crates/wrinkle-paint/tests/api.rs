@@ -35,6 +35,18 @@ fn sphere_session(atlas: usize) -> Session {
     s
 }
 
+/// What the sphere session's view shows at pixel (x, y): the point where the ray through the pixel's centre
+/// (the eye at z = 4, fov 35 degrees) meets the unit sphere, and the world size of `radius_px` pixels there.
+fn seen_on_sphere(x: f32, y: f32, radius_px: f32) -> (Vec3, f32) {
+    let (w, h) = (VIEW.0 as f32, VIEW.1 as f32);
+    let scale = 0.5 * h / (17.5f32).to_radians().tan();
+    let eye = Vec3::new(0.0, 0.0, 4.0);
+    let dir = Vec3::new((x + 0.5 - w / 2.0) / scale, -(y + 0.5 - h / 2.0) / scale, -1.0).normalize();
+    let b = eye.dot(dir);
+    let hit = eye + dir * (-b - (b * b - eye.length_squared() + 1.0).sqrt());
+    (hit, radius_px * (eye.z - hit.z) / scale)
+}
+
 fn brush(json: &str) -> Brush {
     serde_json::from_str(json).unwrap()
 }
@@ -55,14 +67,8 @@ fn a_dab_paints_the_texels_within_the_brush_sphere() {
     let texels = s
         .stroke(brush(r#"{"radius": 24, "hardness": 1, "color": [1, 0, 0]}"#), &[[w as f32 / 2.0, h as f32 / 2.0]])
         .unwrap();
-    // The point seen at the centre pixel: its ray (the eye at z = 4, fov 35 degrees) meets the unit
-    // sphere; the brush's radius in the world is 24 pixels at its depth.
-    let scale = 0.5 * h as f32 / (17.5f32).to_radians().tan();
-    let eye = Vec3::new(0.0, 0.0, 4.0);
-    let dir = Vec3::new(0.5 / scale, -0.5 / scale, -1.0).normalize();
-    let b = eye.dot(dir);
-    let hit = eye + dir * (-b - (b * b - eye.length_squared() + 1.0).sqrt());
-    let radius = 24.0 * (eye.z - hit.z) / scale;
+    // The point seen at the centre pixel; the brush's radius in the world is 24 pixels at its depth.
+    let (hit, radius) = seen_on_sphere(w as f32 / 2.0, h as f32 / 2.0, 24.0);
     let sphere = Surface::Sphere { radius: 1.0 };
     let after = s.atlas().codes(Channel::Color);
     let (mut expected, mut wrong) = (0, 0);
@@ -324,19 +330,10 @@ fn a_model_without_texture_coordinates_gets_an_atlas_and_paints_across_its_seams
 fn a_stroke_sweeps_the_brush_between_its_dabs() {
     let size = 512;
     let mut s = sphere_session(size);
-    let (w, h) = VIEW;
     // Two dabs exactly (spacing one radius: 20 pixels), symmetric about the view's centre.
     let stroke = brush(r#"{"radius": 20, "spacing": 1, "hardness": 0, "channel": "specular", "value": 1.0}"#);
     s.stroke(stroke.clone(), &[[150.0, 120.0], [170.0, 120.0]]).unwrap();
-    let scale = 0.5 * h as f32 / (17.5f32).to_radians().tan();
-    let eye = Vec3::new(0.0, 0.0, 4.0);
-    let hit = |x: f32, y: f32| {
-        let dir = Vec3::new((x + 0.5 - w as f32 / 2.0) / scale, -(y + 0.5 - h as f32 / 2.0) / scale, -1.0).normalize();
-        let b = eye.dot(dir);
-        eye + dir * (-b - (b * b - eye.length_squared() + 1.0).sqrt())
-    };
-    let (a, b) = (hit(150.0, 120.0), hit(170.0, 120.0));
-    let radius = 20.0 * (eye.z - b.z) / scale;
+    let ((a, _), (b, radius)) = (seen_on_sphere(150.0, 120.0, 20.0), seen_on_sphere(170.0, 120.0, 20.0));
     let sphere = Surface::Sphere { radius: 1.0 };
     let codes = s.atlas().codes(Channel::Specular);
     let mut checked = 0;
@@ -363,15 +360,9 @@ fn x_mirror_paints_the_mirror_image_too() {
     let size = 256;
     let mut s = sphere_session(size);
     let before = s.atlas().codes(Channel::Color).to_vec();
-    let (w, h) = VIEW;
     s.stroke(brush(r#"{"radius": 15, "hardness": 1, "color": [0, 1, 1], "mirror_x": true}"#), &[[200.0, 110.0]])
         .unwrap();
-    let scale = 0.5 * h as f32 / (17.5f32).to_radians().tan();
-    let eye = Vec3::new(0.0, 0.0, 4.0);
-    let dir = Vec3::new((200.5 - w as f32 / 2.0) / scale, -(110.5 - h as f32 / 2.0) / scale, -1.0).normalize();
-    let b = eye.dot(dir);
-    let hit = eye + dir * (-b - (b * b - eye.length_squared() + 1.0).sqrt());
-    let radius = 15.0 * (eye.z - hit.z) / scale;
+    let (hit, radius) = seen_on_sphere(200.0, 110.0, 15.0);
     let mirrored = Vec3::new(-hit.x, hit.y, hit.z);
     let sphere = Surface::Sphere { radius: 1.0 };
     let after = s.atlas().codes(Channel::Color);
