@@ -238,7 +238,7 @@ impl Model {
         let Shape::Mesh(parts) = &self.scene.objects[self.object].shape else { return None };
         let meshes: Vec<(String, TriangleMesh)> =
             parts.iter().enumerate().map(|(k, p)| (format!("part_{k}"), (*p.mesh).clone())).collect();
-        Some(write_obj(&meshes))
+        Some(write_obj(&meshes, "wrinkle paint (the painted model with its texture atlas)"))
     }
 }
 

@@ -39,14 +39,14 @@ impl Scene {
 
     /// The scene's geometry as OBJ text (see the module's documentation).
     pub fn to_obj(&self, segments: usize) -> Result<String> {
-        Ok(write_obj(&self.world_meshes(segments)?))
+        Ok(write_obj(&self.world_meshes(segments)?, "wrinkle tessellate"))
     }
 }
 
 /// OBJ text of named meshes: shared positions, then per mesh its texture coordinates (set 0), normals
-/// and faces. Numbers in Rust's shortest form that reads back to the same f32.
-pub fn write_obj(meshes: &[(String, TriangleMesh)]) -> String {
-    let mut out = String::from("# Written by wrinkle: positions shared where bit for bit equal.\n");
+/// and faces. Numbers in Rust's shortest form that reads back to the same f32. The first line names `tool`.
+pub fn write_obj(meshes: &[(String, TriangleMesh)], tool: &str) -> String {
+    let mut out = format!("# Written by {tool}: positions shared where bit for bit equal.\n");
     let mut index: HashMap<[u32; 3], usize> = HashMap::new();
     let mut position_of = Vec::with_capacity(meshes.len());
     for (_, mesh) in meshes {
