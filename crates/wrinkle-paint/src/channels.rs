@@ -6,7 +6,7 @@ use glam::Vec3;
 use std::path::Path;
 use std::sync::Arc;
 use wrinkle::image::color::{linear_to_srgb, srgb8_decode_table};
-use wrinkle::image::{io, GreyImage, Image};
+use wrinkle::image::{io, Image};
 use wrinkle::texture::EditableTexture;
 use wrinkle::{BumpTable, FilteredTexture, Result, TextureOptions};
 
@@ -93,6 +93,8 @@ pub struct Atlas {
     loaded: [Vec<u32>; 4],
     /// Per channel: the textures of colour, specular and opacity (built on first use).
     textures: [Option<EditableTexture>; 4],
+    /// The height channel as Blinn's bump table (built on first use).
+    bump: Option<Arc<BumpTable>>,
     /// Per channel: the columns and rows (x0, y0, x1, y1) changed since its texture was last brought up to date.
     changed: [Option<(usize, usize, usize, usize)>; 4],
 }
@@ -105,7 +107,7 @@ impl Atlas {
             assert_eq!(texels.len(), size * size, "a channel's texels fill the atlas");
             codes[channel.index()] = texels;
         }
-        Atlas { size, loaded: codes.clone(), codes, textures: Default::default(), changed: [None; 4] }
+        Atlas { size, loaded: codes.clone(), codes, textures: Default::default(), bump: None, changed: [None; 4] }
     }
 
     pub fn codes(&self, channel: Channel) -> &[u32] {
@@ -154,13 +156,23 @@ impl Atlas {
     }
 
     /// The height channel as Blinn's bump table (value / 65535, as a 16-bit height file reads).
-    pub fn bump_table(&self) -> Arc<BumpTable> {
-        Arc::new(BumpTable::new(&self.height_image()))
-    }
-
-    fn height_image(&self) -> GreyImage {
-        let pixels = self.codes(Channel::Height).iter().map(|&c| c as f32 / 65535.0).collect();
-        Image { width: self.size, height: self.size, pixels }
+    /// Built once, then brought up to date where heights changed (in place while no material holds it).
+    pub fn bump_table(&mut self) -> Arc<BumpTable> {
+        let c = Channel::Height.index();
+        let (size, codes) = (self.size, &self.codes[c]);
+        let whole = || {
+            let pixels = codes.iter().map(|&c| c as f32 / 65535.0).collect();
+            Arc::new(BumpTable::new(&Image { width: size, height: size, pixels }))
+        };
+        match (&mut self.bump, self.changed[c].take()) {
+            (Some(table), Some(region)) => match Arc::get_mut(table) {
+                Some(t) => t.update(region, |i, row| codes[row * size + i] as f32 / 65535.0),
+                None => *table = whole(),
+            },
+            (Some(_), None) => {}
+            (none, _) => *none = Some(whole()),
+        }
+        self.bump.clone().expect("built above")
     }
 
     /// Writes the channel's file: colour 8-bit sRGB RGB, height 16-bit grey, specular and opacity 8-bit grey.

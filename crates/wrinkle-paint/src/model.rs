@@ -16,7 +16,7 @@ use wrinkle::mapping::{MappedTexture, Projection};
 use wrinkle::scene::write_obj;
 use wrinkle::shade::{AlphaMode, Layer, Mode, Target};
 use wrinkle::texture::Texture;
-use wrinkle::{BumpMap, Error, FilteredTexture, Image, Mapping, Material, Result, Scene, TextureOptions};
+use wrinkle::{BumpMap, BumpTable, Error, FilteredTexture, Image, Mapping, Material, Result, Scene, TextureOptions};
 
 /// The file a saved scene's unwrapped model is written to, beside it.
 const MODEL_FILE: &str = "model.obj";
@@ -137,12 +137,10 @@ impl Model {
     pub fn repaint(&mut self, atlas: &mut Atlas, channel: Channel) {
         let layer = match channel {
             Channel::Height => {
-                let table = atlas.bump_table();
-                for &m in &self.materials {
-                    if let Some(bump) = &mut self.scene.materials[m].bump {
-                        bump.source = BumpSource::Table(table.clone());
-                    }
-                }
+                // As for the textures below: the bumps let go of the table first, so it changes in place.
+                let blank = Arc::new(BumpTable::new(&Image { width: 1, height: 1, pixels: vec![0.5] }));
+                self.set_bump_tables(&blank);
+                self.set_bump_tables(&atlas.bump_table());
                 return;
             }
             Channel::Color => 0,
@@ -162,6 +160,14 @@ impl Model {
         let texture = atlas.texture(channel);
         for &m in &self.materials {
             self.scene.materials[m].layers[layer].source.texture = texture.clone();
+        }
+    }
+
+    fn set_bump_tables(&mut self, table: &Arc<BumpTable>) {
+        for &m in &self.materials {
+            if let Some(bump) = &mut self.scene.materials[m].bump {
+                bump.source = BumpSource::Table(table.clone());
+            }
         }
     }
 

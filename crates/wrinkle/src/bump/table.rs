@@ -18,7 +18,7 @@ use super::Gradient;
 use crate::image::GreyImage;
 use crate::lanes::{gather, CmpEq, CmpGe, CmpGt, F8, I8, LANES};
 use crate::texture::filter::{Filter, FilterOptions, Filterable};
-use crate::texture::mip::{LevelRule, MipFilter, Resample};
+use crate::texture::mip::{resample_changed, LevelRule, MipFilter, Resample, Span, Taps};
 use crate::texture::reconstruct::Kernel;
 use crate::texture::texel::{Plane, TexelSource};
 use crate::texture::{bilinear_taps, wrap01, Footprint, Footprint8, Wrap};
@@ -56,6 +56,35 @@ impl BumpTable {
         let base = Gradients(Arc::new(Plane::from_top_rows(image.width, image.height, &image.pixels)));
         let largest = image.pixels.iter().fold(0.0f32, |m, t| m.max(t.abs()));
         BumpTable { data: Filterable::new(base, MipFilter::Box, [Wrap::Repeat; 2]), largest, moments: OnceLock::new() }
+    }
+
+    /// Replaces level 0's heights in columns `x0..x1` and rows `y0..y1` (row 0 at the top) with
+    /// `height(i, row)`, and brings the pyramid up to date where it reads them, bit for bit as `new` builds
+    /// it (a painted height channel costs what a dab covers). The slopes' moments are made again on first
+    /// use; `largest` stays at least the largest |T|.
+    pub fn update(&mut self, (x0, y0, x1, y1): (usize, usize, usize, usize), height: impl Fn(usize, usize) -> f32) {
+        let levels = self.data.levels_mut();
+        let (w, h) = (levels[0].0.width, levels[0].0.height);
+        let (x1, y1) = (x1.min(w), y1.min(h));
+        if x0 >= x1 || y0 >= y1 {
+            return;
+        }
+        let base = Arc::make_mut(&mut levels[0].0);
+        for row in y0..y1 {
+            for i in x0..x1 {
+                let v = height(i, row);
+                base.texels[(h - 1 - row) * w + i] = v;
+                self.largest = self.largest.max(v.abs());
+            }
+        }
+        let mut span = Span { x: (x0, x1), y: (h - y1, h - y0) };
+        for level in 1..levels.len() {
+            let (before, after) = levels.split_at_mut(level);
+            let src = &before[level - 1].0;
+            let taps = Taps::between(src, &after[0].0, MipFilter::Box, [Wrap::Repeat; 2]);
+            span = resample_changed(src, Arc::make_mut(&mut after[0].0), &taps, span, |_, _, _| {});
+        }
+        self.moments = OnceLock::new();
     }
 
     /// The largest |T| in the table.
@@ -328,6 +357,28 @@ fn neighbourhood8(s: F8, n: usize) -> ([I8; 4], F8) {
 
 #[cfg(test)]
 mod tests {
+    /// Heights painted region by region equal a table built from the whole image, level by level.
+    #[test]
+    fn updates_equal_a_whole_build_bit_for_bit() {
+        let (w, h) = (203, 130);
+        let mut pixels: Vec<f32> = (0..w * h).map(|k| ((k * 7919) % 1000) as f32 / 1000.0).collect();
+        let mut table = BumpTable::new(&crate::image::Image { width: w, height: h, pixels: pixels.clone() });
+        for (n, (x0, y0, x1, y1)) in [(0, 0, 5, 7), (198, 120, 203, 130), (40, 33, 90, 61)].into_iter().enumerate() {
+            for row in y0..y1 {
+                for i in x0..x1 {
+                    pixels[row * w + i] = 2.0 + (i * 3 + row + n) as f32 * 0.01;
+                }
+            }
+            table.update((x0, y0, x1, y1), |i, row| pixels[row * w + i]);
+            let whole = BumpTable::new(&crate::image::Image { width: w, height: h, pixels: pixels.clone() });
+            assert_eq!(table.level_count(), whole.level_count());
+            for (l, (a, b)) in table.data.levels().iter().zip(whole.data.levels()).enumerate() {
+                assert!(a.0 == b.0, "after edit {n}: level {l} differs");
+            }
+            assert!(table.largest() >= whole.largest() && whole.largest() > 2.0);
+        }
+    }
+
     use super::*;
     use crate::image::Image;
 

@@ -4,7 +4,7 @@
 //! `FilteredTexture::from_rgba8` of the whole changed image bit for bit, at a cost that follows the change.
 
 use super::filtered::{FilteredTexture, TextureOptions};
-use super::mip::{axis_taps, build_levels};
+use super::mip::{build_levels, resample_changed, Span, Taps};
 use super::rgba8::{encode_texel, Rgba8Plane};
 use super::texel::{Plane, TexelSource};
 use crate::image::color::SrgbEncoder;
@@ -25,16 +25,6 @@ pub struct EditableTexture {
     encoder: SrgbEncoder,
 }
 
-/// A level's filter taps on the level before: (index, weight) per column, then per row.
-type Taps = (Vec<Vec<(usize, f32)>>, Vec<Vec<(usize, f32)>>);
-
-/// Texels of one level, half-open, row 0 at the bottom.
-#[derive(Clone, Copy, Debug)]
-struct Span {
-    x: (usize, usize),
-    y: (usize, usize),
-}
-
 impl EditableTexture {
     /// An opaque texture of 8-bit RGBA bytes as stored (row 0 at the top); `srgb` as for `from_rgba8`.
     pub fn new<'a>(image: impl Into<ImageRef<'a, [u8; 4]>>, srgb: bool, options: TextureOptions) -> Result<Self> {
@@ -48,16 +38,8 @@ impl EditableTexture {
         let levels =
             std::iter::once(base).chain(linear.iter().skip(1).map(|l| Rgba8Plane::encode(l, srgb, &encoder))).collect();
         let stored = FilteredTexture::from_byte_levels(levels, options);
-        let taps = linear
-            .windows(2)
-            .map(|pair| {
-                let (from, to) = (&pair[0], &pair[1]);
-                (
-                    axis_taps(from.width, to.width, options.mip_filter, options.wrap[0]),
-                    axis_taps(from.height, to.height, options.mip_filter, options.wrap[1]),
-                )
-            })
-            .collect();
+        let taps =
+            linear.windows(2).map(|pair| Taps::between(&pair[0], &pair[1], options.mip_filter, options.wrap)).collect();
         Ok(EditableTexture { linear, stored, taps, srgb, options, encoder })
     }
 
@@ -84,8 +66,11 @@ impl EditableTexture {
         }
         let mut span = Span { x: (x0, x1), y: (h - y1, h - y0) };
         for level in 1..self.linear.len() {
-            span =
-                resample_span(&mut self.linear, stored, &self.taps[level - 1], level, span, (self.srgb, &self.encoder));
+            let (before, after) = self.linear.split_at_mut(level);
+            let (srgb, encoder, stored) = (self.srgb, &self.encoder, &mut stored[level]);
+            span = resample_changed(&before[level - 1], &mut after[0], &self.taps[level - 1], span, |x, y, v| {
+                stored.set(x, y, encode_texel(v, srgb, encoder))
+            });
         }
     }
 
@@ -99,53 +84,6 @@ impl EditableTexture {
     pub fn size(&self) -> (usize, usize) {
         (self.linear[0].width, self.linear[0].height)
     }
-}
-
-/// Recomputes the texels of `level` (linear and stored) that read `changed` texels of the level before, with
-/// `taps` from that level: their span.
-fn resample_span(
-    linear: &mut [Plane<Vec4>],
-    stored: &mut [Rgba8Plane],
-    (cols, rows): &Taps,
-    level: usize,
-    changed: Span,
-    (srgb, encoder): (bool, &SrgbEncoder),
-) -> Span {
-    let reads = |taps: &[(usize, f32)], (lo, hi): (usize, usize)| taps.iter().any(|&(k, _)| k >= lo && k < hi);
-    let xs: Vec<usize> = (0..cols.len()).filter(|&x| reads(&cols[x], changed.x)).collect();
-    let ys: Vec<usize> = (0..rows.len()).filter(|&y| reads(&rows[y], changed.y)).collect();
-    let (Some(&x_lo), Some(&x_hi), Some(&y_lo), Some(&y_hi)) = (xs.first(), xs.last(), ys.first(), ys.last()) else {
-        return Span { x: (0, 0), y: (0, 0) };
-    };
-    let (before, after) = linear.split_at_mut(level);
-    let (src, dst) = (&before[level - 1], &mut after[0]);
-    // Only the columns the changed outputs read (neighbours share some), each summed in the order
-    // `mip::resample` adds it.
-    let mut read: Vec<usize> = xs.iter().flat_map(|&x| cols[x].iter().map(|t| t.0)).collect();
-    read.sort_unstable();
-    read.dedup();
-    let mut combined = vec![Vec4::ZERO; src.width];
-    for &y in &ys {
-        for &i in &read {
-            combined[i] = Vec4::ZERO;
-        }
-        for &(j, wj) in &rows[y] {
-            let row = src.row(j);
-            for &i in &read {
-                combined[i] += row[i] * wj;
-            }
-        }
-        for &x in &xs {
-            let taps = &cols[x];
-            let mut sum = combined[taps[0].0] * taps[0].1;
-            for &(i, wi) in &taps[1..] {
-                sum += combined[i] * wi;
-            }
-            dst.texels[y * dst.width + x] = sum;
-            stored[level].set(x, y, encode_texel(sum, srgb, encoder));
-        }
-    }
-    Span { x: (x_lo, x_hi + 1), y: (y_lo, y_hi + 1) }
 }
 
 #[cfg(test)]

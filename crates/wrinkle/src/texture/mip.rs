@@ -76,7 +76,7 @@ fn bessel_i0(x: f32) -> f32 {
 }
 
 /// The source taps (index, weight) of every texel of an axis resampled from `n` to `nn` texels.
-pub(crate) fn axis_taps(n: usize, nn: usize, filter: MipFilter, wrap: Wrap) -> Vec<Vec<(usize, f32)>> {
+fn axis_taps(n: usize, nn: usize, filter: MipFilter, wrap: Wrap) -> Vec<Vec<(usize, f32)>> {
     if n == nn {
         return (0..n).map(|i| vec![(i, 1.0)]).collect();
     }
@@ -161,6 +161,72 @@ pub fn resample<S: TexelSource>(src: &S, nw: usize, nh: usize, filter: MipFilter
         }
     });
     Plane { width: nw, height: nh, texels }
+}
+
+/// A level's filter taps on the level before: (index, weight) for each of its columns, then of its rows.
+pub(crate) struct Taps {
+    columns: Vec<Vec<(usize, f32)>>,
+    rows: Vec<Vec<(usize, f32)>>,
+}
+
+impl Taps {
+    pub(crate) fn between<T>(from: &Plane<T>, to: &Plane<T>, filter: MipFilter, wrap: [Wrap; 2]) -> Taps {
+        Taps {
+            columns: axis_taps(from.width, to.width, filter, wrap[0]),
+            rows: axis_taps(from.height, to.height, filter, wrap[1]),
+        }
+    }
+}
+
+/// Columns `x.0..x.1` by rows `y.0..y.1` of one level, row 0 at the bottom.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Span {
+    pub x: (usize, usize),
+    pub y: (usize, usize),
+}
+
+/// Recomputes the texels of `dst` (the level after `src`, by `taps`) that read the `changed` texels of
+/// `src`, bit for bit as `resample` computes them (each sum in the same order), calling `changed_texel` on
+/// each: the span of those texels. What keeps a pyramid up to date as its base is painted.
+pub(crate) fn resample_changed<T: Texel>(
+    src: &Plane<T>,
+    dst: &mut Plane<T>,
+    taps: &Taps,
+    changed: Span,
+    mut changed_texel: impl FnMut(usize, usize, T),
+) -> Span {
+    let reads = |taps: &[(usize, f32)], (lo, hi): (usize, usize)| taps.iter().any(|&(k, _)| k >= lo && k < hi);
+    let xs: Vec<usize> = (0..taps.columns.len()).filter(|&x| reads(&taps.columns[x], changed.x)).collect();
+    let ys: Vec<usize> = (0..taps.rows.len()).filter(|&y| reads(&taps.rows[y], changed.y)).collect();
+    let (Some(&x_lo), Some(&x_hi), Some(&y_lo), Some(&y_hi)) = (xs.first(), xs.last(), ys.first(), ys.last()) else {
+        return Span { x: (0, 0), y: (0, 0) };
+    };
+    // Only the columns the changed texels read (neighbours share some).
+    let mut read: Vec<usize> = xs.iter().flat_map(|&x| taps.columns[x].iter().map(|t| t.0)).collect();
+    read.sort_unstable();
+    read.dedup();
+    let mut combined = vec![T::default(); src.width];
+    for &y in &ys {
+        for &i in &read {
+            combined[i] = T::default();
+        }
+        for &(j, wj) in &taps.rows[y] {
+            let row = src.row(j);
+            for &i in &read {
+                combined[i] = combined[i] + row[i] * wj;
+            }
+        }
+        for &x in &xs {
+            let column = &taps.columns[x];
+            let mut sum = combined[column[0].0] * column[0].1;
+            for &(i, wi) in &column[1..] {
+                sum = sum + combined[i] * wi;
+            }
+            dst.texels[y * dst.width + x] = sum;
+            changed_texel(x, y, sum);
+        }
+    }
+    Span { x: (x_lo, x_hi + 1), y: (y_lo, y_hi + 1) }
 }
 
 /// The size of the level after one of `n` texels: half, rounded down, at least one.
