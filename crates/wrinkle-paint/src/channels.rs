@@ -131,8 +131,7 @@ impl Atlas {
     }
 
     /// The colour channel as the renderer's 8-bit sRGB texture, the specular or opacity channel as a linear
-    /// grey one: what a scene layer reading the saved file holds.
-    /// Built once, then brought up to date only where texels changed (`EditableTexture`): a dab costs what it
+    /// grey one: what a scene layer reading the saved file holds. Built once, then brought up to date only where texels changed (`EditableTexture`): a dab costs what it
     /// covers, not the atlas's size.
     pub fn texture(&mut self, channel: Channel) -> Arc<FilteredTexture> {
         let c = channel.index();
@@ -160,13 +159,14 @@ impl Atlas {
     pub fn bump_table(&mut self) -> Arc<BumpTable> {
         let c = Channel::Height.index();
         let (size, codes) = (self.size, &self.codes[c]);
+        let height = |code: u32| code as f32 / 65535.0;
         let whole = || {
-            let pixels = codes.iter().map(|&c| c as f32 / 65535.0).collect();
+            let pixels = codes.iter().map(|&code| height(code)).collect();
             Arc::new(BumpTable::new(&Image { width: size, height: size, pixels }))
         };
         match (&mut self.bump, self.changed[c].take()) {
             (Some(table), Some(region)) => match Arc::get_mut(table) {
-                Some(t) => t.update(region, |i, row| codes[row * size + i] as f32 / 65535.0),
+                Some(t) => t.update(region, |i, row| height(codes[row * size + i])),
                 None => *table = whole(),
             },
             (Some(_), None) => {}
@@ -175,22 +175,8 @@ impl Atlas {
         self.bump.clone().expect("built above")
     }
 
-    /// Writes the channel's file: colour 8-bit sRGB RGB, height 16-bit grey, specular and opacity 8-bit grey.
-    pub fn write(&self, channel: Channel, path: &Path) -> Result<()> {
-        let (size, codes) = (self.size, self.codes(channel));
-        match channel {
-            Channel::Color => {
-                let rgb: Vec<u8> = codes.iter().flat_map(|c| c.to_le_bytes().into_iter().take(3)).collect();
-                io::write_png_rgb8(path, size, size, &rgb)
-            }
-            Channel::Height => {
-                io::write_png16(path, size, size, 1, &codes.iter().map(|&c| c as u16).collect::<Vec<_>>())
-            }
-            _ => io::write_png8(path, size, size, 1, &codes.iter().map(|&c| c as u8).collect::<Vec<_>>()),
-        }
-    }
-
-    /// The channel's file as PNG bytes (what `write` writes).
+    /// The channel's file as PNG bytes: colour 8-bit sRGB RGB, height 16-bit grey, specular and opacity 8-bit
+    /// grey.
     pub fn png(&self, channel: Channel) -> Result<Vec<u8>> {
         let (size, codes) = (self.size, self.codes(channel));
         let name = Path::new(channel.name());

@@ -9,6 +9,7 @@ use glam::{Affine3A, Vec2, Vec3};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use wrinkle::image::output::OutputSet;
 use wrinkle::render::Aovs;
 use wrinkle::{Camera, CameraDesc, Error, Frame, RenderOptions, Result};
 
@@ -400,28 +401,25 @@ impl Session {
         Ok(Some(saved.scene))
     }
 
+    /// The channels, the model (where its atlas was laid out here) and the scene, placed together: a save
+    /// that fails leaves the folder as it was.
     fn write_to(&self, dir: &Path) -> Result<Saved> {
         std::fs::create_dir_all(dir).map_err(|e| Error::write(dir, e.to_string()))?;
-        let mut files = Vec::new();
+        let mut contents = Vec::new();
         for channel in Channel::ALL {
-            let path = dir.join(channel.file_name());
-            self.atlas.write(channel, &path)?;
-            files.push(path);
+            contents.push((dir.join(channel.file_name()), self.atlas.png(channel)?));
         }
         if let Some(obj) = self.model.unwrapped_obj() {
-            let path = dir.join("model.obj");
-            wrinkle::image::output::write_atomic(&path, |out| {
-                out.write_all(obj.as_bytes()).map_err(|e| Error::write(&path, e.to_string()))
-            })?;
-            files.push(path);
+            contents.push((dir.join("model.obj"), obj.into_bytes()));
         }
         let scene = dir.join("scene.toml");
-        let text = self.model.saved_document(dir);
-        wrinkle::image::output::write_atomic(&scene, |out| {
-            out.write_all(text.as_bytes()).map_err(|e| Error::write(&scene, e.to_string()))
-        })?;
-        files.push(scene.clone());
-        Ok(Saved { scene, files })
+        contents.push((scene.clone(), self.model.saved_document(dir).into_bytes()));
+        let mut set = OutputSet::new();
+        for (path, bytes) in &contents {
+            set.stage(path, |staged| std::fs::write(staged, bytes).map_err(|e| Error::write(path, e.to_string())))?;
+        }
+        set.commit()?;
+        Ok(Saved { scene, files: contents.into_iter().map(|(path, _)| path).collect() })
     }
 }
 

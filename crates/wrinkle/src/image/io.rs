@@ -245,9 +245,7 @@ fn png_colour(path: &Path, channels: usize) -> Result<png::ColorType> {
 /// Writes an 8-bit PNG of 1 to 4 channels (grey, grey and alpha, RGB, RGBA) from `samples` as stored, row 0 at
 /// the top.
 pub fn write_png8(path: &Path, width: usize, height: usize, channels: usize, samples: &[u8]) -> Result<()> {
-    let colour = png_colour(path, channels)?;
-    check_buffer(path, width, height, channels, samples.len())?;
-    write_png(path, width, height, colour, png::BitDepth::Eight, samples)
+    write_atomic(path, |out| encode_png8(out, path, (width, height), channels, samples))
 }
 
 /// Encodes an 8-bit PNG of 1 to 4 channels into `out` (a pipe, the standard output), as `write_png8` writes
@@ -266,10 +264,7 @@ pub fn encode_png8(
 
 /// Writes a 16-bit PNG of 1 to 4 channels from `samples` as stored, row 0 at the top.
 pub fn write_png16(path: &Path, width: usize, height: usize, channels: usize, samples: &[u16]) -> Result<()> {
-    let colour = png_colour(path, channels)?;
-    check_buffer(path, width, height, channels, samples.len())?;
-    let bytes: Vec<u8> = samples.iter().flat_map(|v| v.to_be_bytes()).collect();
-    write_png(path, width, height, colour, png::BitDepth::Sixteen, &bytes)
+    write_atomic(path, |out| encode_png16(out, path, (width, height), channels, samples))
 }
 
 /// Encodes a 16-bit PNG of 1 to 4 channels into `out`, as `write_png16` writes it to a file; errors name

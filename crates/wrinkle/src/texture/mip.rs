@@ -152,15 +152,22 @@ pub fn resample<S: TexelSource>(src: &S, nw: usize, nh: usize, filter: MipFilter
                 src.add_row(j, wj, &mut combined);
             }
             for (o, taps) in out_row.iter_mut().zip(&cols) {
-                let mut sum = combined[taps[0].0] * taps[0].1;
-                for &(i, wi) in &taps[1..] {
-                    sum = sum + combined[i] * wi;
-                }
-                *o = sum;
+                *o = sum_taps(&combined, taps);
             }
         }
     });
     Plane { width: nw, height: nh, texels }
+}
+
+/// One output texel from its row's combined source columns: the weighted sum over `taps`, in their order
+/// (a whole resample and an update of changed texels must add alike to agree bit for bit).
+#[inline]
+fn sum_taps<T: Texel>(combined: &[T], taps: &[(usize, f32)]) -> T {
+    let mut sum = combined[taps[0].0] * taps[0].1;
+    for &(i, wi) in &taps[1..] {
+        sum = sum + combined[i] * wi;
+    }
+    sum
 }
 
 /// A level's filter taps on the level before: (index, weight) for each of its columns, then of its rows.
@@ -217,11 +224,7 @@ pub(crate) fn resample_changed<T: Texel>(
             }
         }
         for &x in &xs {
-            let column = &taps.columns[x];
-            let mut sum = combined[column[0].0] * column[0].1;
-            for &(i, wi) in &column[1..] {
-                sum = sum + combined[i] * wi;
-            }
+            let sum = sum_taps(&combined, &taps.columns[x]);
             dst.texels[y * dst.width + x] = sum;
             changed_texel(x, y, sum);
         }
