@@ -1,5 +1,6 @@
 //! `wrinkle bench-noise`: throughput of 3D Perlin noise and of fBm over points uniform in [0, 10)^3, and
-//! the time of a 1024x1024 6-octave fBm texture.
+//! the time of a 1024x1024 6-octave fBm texture; the default (hashed) noise and Perlin's reference
+//! (improved, permutation table) side by side.
 
 use clap::Args;
 use rayon::prelude::*;
@@ -61,35 +62,38 @@ pub fn run(args: &BenchNoiseArgs) -> Result<()> {
     crate::set_threads(args.threads)?;
     let [x, y, z] = uniform_points(args.points, 10.0, 1);
     let mut out = vec![0.0f32; args.points];
-    let noise = Perlin::new(Variant::Improved, 0);
-    let fbm = Fractal::new(noise.clone(), Sum::Fbm, Octaves { count: args.octaves, ..Octaves::default() });
     let chunks = |out: &mut [f32], f: &Kernel<'_>| {
         out.par_chunks_mut(CHUNK).enumerate().for_each(|(c, o)| {
             let r = c * CHUNK..c * CHUNK + o.len();
             f(&x[r.clone()], &y[r.clone()], &z[r], o)
         })
     };
-    let (noise_ms, noise_min) = time(args.rounds, || chunks(&mut out, &|x, y, z, o| noise.noise3_many(x, y, z, o)));
-    let checksum: f64 = out.iter().map(|&v| v as f64).sum();
-    let (fbm_ms, fbm_min) = time(args.rounds, || chunks(&mut out, &|x, y, z, o| fbm.eval3_many(x, y, z, o)));
-    // The texture tool's workload: a 1024x1024 fBm image (2D noise, all octaves resolved, eight pixels a time).
-    let mut params = Params::new(Kind::Fbm);
-    params.octaves.count = args.octaves;
-    let pattern = Pattern::new(params, 2, false)?;
-    let (tex_ms, tex_min) = time(args.rounds, || {
-        bake(&pattern, 1024, 1024);
-    });
     let mps = |ms: f64| args.points as f64 / (ms * 1e3);
-    println!(
-        "threads={} points={} perlin3_mpts={:.1} perlin3_best_mpts={:.1} fbm{}_mpts={:.1} fbm{}_best_mpts={:.1} texture1024_fbm_ms={tex_ms:.1} texture1024_fbm_best_ms={tex_min:.1} checksum={checksum:.3}",
-        rayon::current_num_threads(),
-        args.points,
-        mps(noise_ms),
-        mps(noise_min),
-        args.octaves,
-        mps(fbm_ms),
-        args.octaves,
-        mps(fbm_min),
-    );
+    let mut line = format!("threads={} points={}", rayon::current_num_threads(), args.points);
+    let mut checksum = 0.0;
+    for (name, variant) in [("", Variant::Hashed), ("_reference", Variant::Improved)] {
+        let noise = Perlin::new(variant, 0);
+        let fbm = Fractal::new(noise.clone(), Sum::Fbm, Octaves { count: args.octaves, ..Octaves::default() });
+        let (noise_ms, noise_min) = time(args.rounds, || chunks(&mut out, &|x, y, z, o| noise.noise3_many(x, y, z, o)));
+        checksum += out.iter().map(|&v| v as f64).sum::<f64>();
+        let (fbm_ms, fbm_min) = time(args.rounds, || chunks(&mut out, &|x, y, z, o| fbm.eval3_many(x, y, z, o)));
+        // The texture tool's workload: a 1024x1024 fBm image (2D noise, all octaves resolved, eight pixels a time).
+        let mut params = Params::new(Kind::Fbm);
+        params.octaves.count = args.octaves;
+        params.variant = variant;
+        let pattern = Pattern::new(params, 2, false)?;
+        let (tex_ms, tex_min) = time(args.rounds, || {
+            bake(&pattern, 1024, 1024);
+        });
+        let o = args.octaves;
+        line += &format!(
+            " perlin3{name}_mpts={:.1} perlin3{name}_best_mpts={:.1} fbm{o}{name}_mpts={:.1} fbm{o}{name}_best_mpts={:.1} texture1024_fbm{name}_ms={tex_ms:.1} texture1024_fbm{name}_best_ms={tex_min:.1}",
+            mps(noise_ms),
+            mps(noise_min),
+            mps(fbm_ms),
+            mps(fbm_min),
+        );
+    }
+    println!("{line} checksum={checksum:.3}");
     Ok(())
 }

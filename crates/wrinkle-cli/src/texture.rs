@@ -55,8 +55,9 @@ pub struct TextureArgs {
     /// Lattice cells (pattern periods) across the image
     #[arg(long, allow_negative_numbers = true, default_value_t = 4.0)]
     pub scale: f32,
-    /// Noise variant: improved (2002) or classic (1985)
-    #[arg(long, default_value = "improved")]
+    /// Noise variant: hashed (the 2002 noise with a hashed lattice, fast), improved (2002, Perlin's
+    /// permutation table and reference values) or classic (1985)
+    #[arg(long, default_value = "hashed")]
     pub variant: String,
     /// Octaves of the noise sums
     #[arg(long, default_value_t = Octaves::default().count)]
@@ -123,11 +124,9 @@ impl TextureArgs {
         let mut p = Params::new(kind);
         p.scale = self.scale;
         p.seed = self.seed;
-        p.variant = match self.variant.as_str() {
-            "improved" => Variant::Improved,
-            "classic" => Variant::Classic,
-            other => return Err(Error::Invalid(format!("--variant: expected improved or classic, got \"{other}\""))),
-        };
+        p.variant = Variant::from_name(&self.variant).ok_or_else(|| {
+            Error::Invalid(format!("--variant: expected hashed, improved or classic, got \"{}\"", self.variant))
+        })?;
         p.octaves = Octaves { count: self.octaves, lacunarity: self.lacunarity, gain: self.gain };
         p.strength = self.strength.unwrap_or(p.strength);
         p.rings = self.rings.unwrap_or(p.rings);

@@ -27,11 +27,8 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
 const CHUNK: usize = 4096;
 
 fn variant(name: &str) -> PyResult<Variant> {
-    match name {
-        "improved" => Ok(Variant::Improved),
-        "classic" => Ok(Variant::Classic),
-        _ => Err(invalid(format!("variant: expected \"improved\" or \"classic\", got \"{name}\""))),
-    }
+    Variant::from_name(name)
+        .ok_or_else(|| invalid(format!("variant: expected \"hashed\", \"improved\" or \"classic\", got \"{name}\"")))
 }
 
 /// The points (N, 2) or (N, 3) and their dimension.
@@ -150,7 +147,7 @@ fn pattern_params(kind: &str, params: Option<&Bound<'_, PyDict>>) -> PyResult<Pa
         kind,
         scale: o.take("scale", d.scale)?,
         seed: o.take("seed", d.seed)?,
-        variant: variant(&o.take("variant", "improved".to_string())?)?,
+        variant: variant(&o.take("variant", "hashed".to_string())?)?,
         octaves: Octaves {
             count: o.take("octaves", d.octaves.count)?,
             lacunarity: o.take("lacunarity", d.octaves.lacunarity)?,

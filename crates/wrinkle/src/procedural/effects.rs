@@ -130,7 +130,7 @@ impl Params {
             kind,
             scale: 4.0,
             seed: 0,
-            variant: super::perlin::Variant::Improved,
+            variant: super::perlin::Variant::default(),
             octaves: Octaves::default(),
             strength: match kind {
                 Kind::Wood => 0.3,
@@ -508,7 +508,10 @@ mod tests {
                     hi4[a] += h / 4.0;
                     let c = [(fhi - flo) / (2.0 * h), (p.eval(hi4, 0.0) - p.eval(lo4, 0.0)) / (h / 2.0)];
                     checked += 1;
-                    let ok = c.iter().any(|c| (d.grad[a] - c).abs() < 2e-2 * (1.0 + c.abs()));
+                    // Rounding the value to f32 costs the differences about 2e-3 |grad f| (a ring pattern's
+                    // phase reaches 40, so its ulp moves the value by ~1e-5 against steps of 1e-4).
+                    let norm = d.grad.iter().map(|g| g * g).sum::<f32>().sqrt();
+                    let ok = c.iter().any(|c| (d.grad[a] - c).abs() < 2e-2 * (1.0 + c.abs()) + 2e-3 * norm);
                     assert!(ok, "{kind:?} axis {a} at {x:?}: {} vs {c:?}", d.grad[a]);
                 }
             }

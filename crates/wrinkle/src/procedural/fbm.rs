@@ -23,6 +23,8 @@ fn mean_abs(noise: &Perlin, dims: usize) -> f32 {
     match (noise.variant(), dims) {
         (Variant::Improved, 3) => MEAN_ABS_IMPROVED_3D,
         (Variant::Improved, _) => MEAN_ABS_IMPROVED_2D,
+        (Variant::Hashed, 3) => MEAN_ABS_HASHED_3D,
+        (Variant::Hashed, _) => MEAN_ABS_HASHED_2D,
         (Variant::Classic, 3) => MEAN_ABS_CLASSIC_3D,
         (Variant::Classic, _) => MEAN_ABS_CLASSIC_2D,
     }
@@ -30,6 +32,9 @@ fn mean_abs(noise: &Perlin, dims: usize) -> f32 {
 
 const MEAN_ABS_IMPROVED_3D: f32 = 0.2204;
 const MEAN_ABS_IMPROVED_2D: f32 = 0.2166;
+// The improved gradients drawn independently at every corner (the permutation table's 2D hash is not quite).
+const MEAN_ABS_HASHED_3D: f32 = 0.2203;
+const MEAN_ABS_HASHED_2D: f32 = 0.2134;
 // The classic noise's gradients are random, so its mean depends slightly on the seed (about 1%).
 const MEAN_ABS_CLASSIC_3D: f32 = 0.1471;
 const MEAN_ABS_CLASSIC_2D: f32 = 0.1724;
@@ -212,12 +217,32 @@ impl Fractal {
         out
     }
 
+    /// The full 3D sum at every whole group of sixteen points, where the CPU has AVX-512 and the noise is the
+    /// hashed one; returns how many points it wrote.
+    #[cfg(target_arch = "x86_64")]
+    fn wide_eval3(&self, x: &[f32], y: &[f32], z: &[f32], out: &mut [f32]) -> usize {
+        let octaves: Option<Vec<_>> = (0..self.noises.len())
+            .map(|i| {
+                // The lanes' octave point, p * f + k * shift, with k * shift rounded as there.
+                let shift = OCTAVE_SHIFT.map(|s| i as f32 * s);
+                self.noises[i].wide_octave(self.freq[i], shift, self.amp[i])
+            })
+            .collect();
+        octaves.map_or(0, |o| super::simd512::sum3(&o, self.sum == Sum::Turbulence, x, y, z, out))
+    }
+
+    #[cfg(not(target_arch = "x86_64"))]
+    fn wide_eval3(&self, _: &[f32], _: &[f32], _: &[f32], _: &mut [f32]) -> usize {
+        0
+    }
+
     /// The full 3D sum at every point of three coordinate slices into `out`.
     pub fn eval3_many(&self, x: &[f32], y: &[f32], z: &[f32], out: &mut [f32]) {
         let n = out.len();
         assert!(x.len() == n && y.len() == n && z.len() == n, "coordinate slices must match the output");
-        let full = n - n % LANES;
-        for i in (0..full).step_by(LANES) {
+        let wide = self.wide_eval3(x, y, z, out);
+        let full = wide + (n - wide) / LANES * LANES;
+        for i in (wide..full).step_by(LANES) {
             let lanes = |s: &[f32]| -> [f32; LANES] { s[i..i + LANES].try_into().expect("one lane group") };
             out[i..i + LANES].copy_from_slice(&self.eval3_lanes(&lanes(x), &lanes(y), &lanes(z)));
         }

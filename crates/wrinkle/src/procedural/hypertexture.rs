@@ -53,14 +53,14 @@ pub struct Hypertexture {
 }
 
 impl Modulation {
-    /// A noise sum of `octaves` (1: plain noise) of the improved noise with `seed`.
+    /// A noise sum of `octaves` (1: plain noise) of the default (hashed) noise with `seed`.
     pub fn noise(sum: Sum, amplitude: f32, frequency: f32, octaves: u32, seed: u64, drift: Vec3) -> Modulation {
         let octaves = Octaves { count: octaves, ..Octaves::default() };
         Modulation::Noise {
             amplitude,
             frequency,
             drift,
-            sum: Fractal::new(Perlin::new(Variant::Improved, seed), sum, octaves),
+            sum: Fractal::new(Perlin::new(Variant::default(), seed), sum, octaves),
         }
     }
 

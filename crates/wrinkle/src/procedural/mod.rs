@@ -10,6 +10,8 @@ pub mod hypertexture;
 pub mod perlin;
 #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
 mod simd;
+#[cfg(target_arch = "x86_64")]
+mod simd512;
 pub mod solid;
 
 pub use perlin::{NoiseD, Perlin, Variant};

@@ -95,8 +95,7 @@ fn parse_pattern(f: &Fields, name_key: &str) -> Result<Procedural> {
     let mut p = Params::new(kind);
     p.scale = f.number_or("scale", p.scale)?;
     p.seed = f.integer_where("seed", 0, 0, u32::MAX as usize)? as u64;
-    p.variant =
-        f.choice("variant", Variant::Improved, &[("improved", Variant::Improved), ("classic", Variant::Classic)])?;
+    p.variant = f.choice("variant", p.variant, &Variant::NAMES)?;
     p.octaves.count = f.integer_where("octaves", p.octaves.count as usize, 1, 24)? as u32;
     p.octaves.lacunarity = f.number_or("lacunarity", p.octaves.lacunarity)?;
     p.octaves.gain = f.number_or("gain", p.octaves.gain)?;
