@@ -15,23 +15,7 @@ bin=target/release/wrinkle
 python3 bench/mesh_sphere.py "$dir"
 cp bench/canonical/bricks_color.png "$dir/"
 $bin normalmap bench/canonical/bricks_height.png -o "$dir/bricks_normal.png" --strength 2 --wrap
-cat > "$dir/mesh.toml" <<'TOML'
-[camera]
-eye = [0.0, 0.0, 4.0]
-look_at = [0.0, 0.0, 0.0]
-fov_y = 40.0
-[[light]]
-type = "directional"
-direction = [-0.5, -0.5, -1.0]
-[[light]]
-type = "directional"
-direction = [0.6, 0.3, -1.0]
-intensity = 0.4
-[[object]]
-shape = "mesh"
-file = "sphere.obj"
-two_sided = false
-TOML
+cp bench/mesh/scene.toml "$dir/mesh.toml"
 for ((r = 0; r < rounds; r++)); do
   start=$(date +%s.%N)
   $bin bench "$dir/mesh.toml" --width 1920 --height 1080 --frames 9

@@ -9,7 +9,50 @@ import wrinkle
 
 def test_perlins_published_value():
     # Perlin's reference ImprovedNoise: noise(3.14, 42, 7) = 0.13691995878400012.
-    assert np.isclose(wrinkle.noise.perlin([3.14, 42.0, 7.0])[0], 0.13691995878400012, atol=2e-6)
+    assert np.isclose(wrinkle.noise.perlin([3.14, 42.0, 7.0], variant="improved")[0], 0.13691995878400012, atol=2e-6)
+
+
+def hashed_noise(points, seed=0):
+    """The default noise as docs/procedural.md describes it, in float64: Perlin's improved noise whose corner
+    gradient is the top four bits of ((seed' ^ i*PX ^ j*PY ^ k*PZ) * MIX) mod 2^32, seed' the high half of the
+    first SplitMix64 output of the seed."""
+    m64, m32 = (1 << 64) - 1, (1 << 32) - 1
+    s = (seed + 0x9E3779B97F4A7C15) & m64
+    s = ((s ^ (s >> 30)) * 0xBF58476D1CE4E5B9) & m64
+    s = ((s ^ (s >> 27)) * 0x94D049BB133111EB) & m64
+    seed32 = (s ^ (s >> 31)) >> 32
+    primes, mix = (501125321, 1136930381, 1720413743), 0x27D4EB2D
+
+    def grad(h, x, y, z):
+        u = x if h < 8 else y
+        v = y if h < 4 else (x if h in (12, 14) else z)
+        return (u if h & 1 == 0 else -u) + (v if h & 2 == 0 else -v)
+
+    def fade(t):
+        return t * t * t * (t * (t * 6 - 15) + 10)
+
+    out = []
+    for x, y, z in points:
+        i, j, k = int(np.floor(x)), int(np.floor(y)), int(np.floor(z))
+        fx, fy, fz = x - i, y - j, z - k
+        n = {}
+        for c in range(8):
+            a, b, d = c & 1, c >> 1 & 1, c >> 2
+            v = seed32 ^ ((i + a) * primes[0] & m32) ^ ((j + b) * primes[1] & m32) ^ ((k + d) * primes[2] & m32)
+            n[c] = grad(((v * mix) & m32) >> 28, fx - a, fy - b, fz - d)
+        u, v, w = fade(fx), fade(fy), fade(fz)
+        lerp = lambda t, p, q: p + t * (q - p)
+        near = lerp(v, lerp(u, n[0], n[1]), lerp(u, n[2], n[3]))
+        far = lerp(v, lerp(u, n[4], n[5]), lerp(u, n[6], n[7]))
+        out.append(lerp(w, near, far))
+    return np.array(out)
+
+
+def test_the_default_noise_is_the_documented_hash():
+    p = (np.random.default_rng(3).random((300, 3)) * 80 - 40).astype(np.float32)
+    assert np.allclose(wrinkle.noise.perlin(p), hashed_noise(p.astype(np.float64)), atol=2e-6)
+    assert np.allclose(wrinkle.noise.perlin(p, variant="hashed"), wrinkle.noise.perlin(p))
+    assert not np.allclose(wrinkle.noise.perlin(p, variant="improved"), wrinkle.noise.perlin(p), atol=0.05)
 
 
 def test_noise_is_zero_on_the_lattice():

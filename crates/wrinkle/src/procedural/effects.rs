@@ -8,7 +8,7 @@
 //! colour is a Catmull-Rom spline through the pattern's colours at t.
 
 use super::fbm::{Fractal, Octaves, Sum};
-use super::perlin::{NoiseD, Perlin, LANES};
+use super::perlin::{NoiseD, Perlin};
 use crate::{Error, Result};
 use std::f32::consts::TAU;
 
@@ -249,7 +249,7 @@ impl Pattern {
     }
 
     /// t along one row of a 2D image: the points (u0 + (i + 0.5) du, v) for every i of `out`, each pixel
-    /// `width` units wide. fBm and turbulence whose octaves are all resolved run eight pixels at a time.
+    /// `width` units wide. fBm and turbulence whose octaves are all resolved run on lanes (`eval2_many`).
     pub fn row(&self, u0: f32, du: f32, v: f32, width: f32, out: &mut [f32]) {
         let s = self.params.scale;
         let sum = match self.params.kind {
@@ -259,13 +259,10 @@ impl Pattern {
         };
         match sum {
             Some((fractal, a, k)) if self.dims == 2 && fractal.all_octaves_resolved(width * s) => {
-                let y = [v * s; LANES];
-                for (c, chunk) in out.chunks_mut(LANES).enumerate() {
-                    let x: [f32; LANES] = std::array::from_fn(|l| (u0 + ((c * LANES + l) as f32 + 0.5) * du) * s);
-                    let n = fractal.eval2_lanes(&x, &y);
-                    for (o, n) in chunk.iter_mut().zip(n) {
-                        *o = (a + k * n).clamp(0.0, 1.0);
-                    }
+                let x: Vec<f32> = (0..out.len()).map(|i| (u0 + (i as f32 + 0.5) * du) * s).collect();
+                fractal.eval2_many(&x, &vec![v * s; out.len()], out);
+                for o in out.iter_mut() {
+                    *o = (a + k * *o).clamp(0.0, 1.0);
                 }
             }
             _ => {

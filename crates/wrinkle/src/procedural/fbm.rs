@@ -217,30 +217,53 @@ impl Fractal {
         out
     }
 
-    /// The full 3D sum at every whole group of sixteen points, where the CPU has AVX-512 and the noise is the
-    /// hashed one; returns how many points it wrote.
+    /// The octaves as a sixteen-lane sum, where the CPU has AVX-512 and the noise is the hashed one.
     #[cfg(target_arch = "x86_64")]
-    fn wide_eval3(&self, x: &[f32], y: &[f32], z: &[f32], out: &mut [f32]) -> usize {
-        let octaves: Option<Vec<_>> = (0..self.noises.len())
+    fn wide_octaves(&self) -> Option<Vec<super::simd512::Octave>> {
+        (0..self.noises.len())
             .map(|i| {
                 // The lanes' octave point, p * f + k * shift, with k * shift rounded as there.
                 let shift = OCTAVE_SHIFT.map(|s| i as f32 * s);
                 self.noises[i].wide_octave(self.freq[i], shift, self.amp[i])
             })
-            .collect();
-        octaves.map_or(0, |o| super::simd512::sum3(&o, self.sum == Sum::Turbulence, x, y, z, out))
+            .collect()
     }
 
-    #[cfg(not(target_arch = "x86_64"))]
-    fn wide_eval3(&self, _: &[f32], _: &[f32], _: &[f32], _: &mut [f32]) -> usize {
+    /// The full sum at every whole group of sixteen points (2D or 3D: `p` holds a slice per axis) where
+    /// `wide_octaves` runs; returns how many points it wrote.
+    fn wide_eval(&self, p: [&[f32]; 3], dims: usize, out: &mut [f32]) -> usize {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(o) = self.wide_octaves() {
+            let turbulence = self.sum == Sum::Turbulence;
+            return match dims {
+                2 => super::simd512::sum2(&o, turbulence, p[0], p[1], out),
+                _ => super::simd512::sum3(&o, turbulence, p[0], p[1], p[2], out),
+            };
+        }
+        let _ = (p, dims, out);
         0
+    }
+
+    /// The full 2D sum at every point of two coordinate slices into `out`.
+    pub fn eval2_many(&self, x: &[f32], y: &[f32], out: &mut [f32]) {
+        let n = out.len();
+        assert!(x.len() == n && y.len() == n, "coordinate slices must match the output");
+        let wide = self.wide_eval([x, y, y], 2, out);
+        let full = wide + (n - wide) / LANES * LANES;
+        for i in (wide..full).step_by(LANES) {
+            let lanes = |s: &[f32]| -> [f32; LANES] { s[i..i + LANES].try_into().expect("one lane group") };
+            out[i..i + LANES].copy_from_slice(&self.eval2_lanes(&lanes(x), &lanes(y)));
+        }
+        for i in full..n {
+            out[i] = self.eval([x[i], y[i], 0.0], 2, 0.0);
+        }
     }
 
     /// The full 3D sum at every point of three coordinate slices into `out`.
     pub fn eval3_many(&self, x: &[f32], y: &[f32], z: &[f32], out: &mut [f32]) {
         let n = out.len();
         assert!(x.len() == n && y.len() == n && z.len() == n, "coordinate slices must match the output");
-        let wide = self.wide_eval3(x, y, z, out);
+        let wide = self.wide_eval([x, y, z], 3, out);
         let full = wide + (n - wide) / LANES * LANES;
         for i in (wide..full).step_by(LANES) {
             let lanes = |s: &[f32]| -> [f32; LANES] { s[i..i + LANES].try_into().expect("one lane group") };

@@ -569,7 +569,7 @@ pub(super) fn improved_gradient3(hash: usize) -> [f32; 3] {
 }
 
 /// The 2D counterpart: the four diagonals and the four axis directions, by the low three bits.
-fn improved_gradient2(hash: usize) -> [f32; 2] {
+pub(super) fn improved_gradient2(hash: usize) -> [f32; 2] {
     const G: [[f32; 2]; 8] =
         [[1.0, 1.0], [-1.0, 1.0], [1.0, -1.0], [-1.0, -1.0], [1.0, 0.0], [-1.0, 0.0], [0.0, 1.0], [0.0, -1.0]];
     G[hash & 7]

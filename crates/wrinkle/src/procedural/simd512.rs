@@ -1,13 +1,13 @@
 //! Sixteen-lane sums of the hashed noise in AVX-512, chosen at run time where the CPU has it (AMD Zen 4 and
-//! 5, Intel Xeon since Skylake-SP): the bulk paths (`Perlin::noise3_many`, `Fractal::eval3_many`) run here,
-//! twice the points per instruction of the AVX2 lanes.
+//! 5, Intel Xeon since Skylake-SP): the bulk paths (`Perlin::noise3_many`, `Fractal::eval3_many`, the rows of
+//! a baked fBm or turbulence image) run here, twice the points per instruction of the AVX2 lanes.
 //!
 //! The gradient of a hash is read from three sixteen-entry registers by `vpermps` (one instruction per
 //! component) and dotted by a multiply and two fused multiply-adds; one component is zero and the others are
 //! +-1, so every product is exact and the fused sums round as the scalar kernel's separate ones. The rest is
 //! the scalar kernel's arithmetic in its order (perlin.rs), so every lane equals `Perlin::noise3` to the bit.
 
-use super::perlin::{improved_gradient3, HASH_MIX, HASH_PRIME, LATTICE_LIMIT};
+use super::perlin::{improved_gradient2, improved_gradient3, HASH_MIX, HASH_PRIME, LATTICE_LIMIT};
 use std::arch::x86_64::*;
 
 /// Points per vector.
@@ -38,33 +38,38 @@ impl Octave {
     }
 }
 
-/// sum over `octaves` of amplitude * noise (or |noise| when `turbulence`) at every whole group of sixteen
+/// sum over `octaves` of amplitude * noise (or |noise| when `turbulence`) at every whole group of sixteen 3D
 /// points; returns how many points it wrote (the rest are the caller's).
 pub(super) fn sum3(octaves: &[Octave], turbulence: bool, x: &[f32], y: &[f32], z: &[f32], out: &mut [f32]) -> usize {
     if octaves.is_empty() {
         return 0;
     }
     // SAFETY: an `Octave` exists only where the CPU has AVX-512F.
-    unsafe { hashed_sum3(octaves, turbulence, x, y, z, out) }
+    unsafe { hashed_sum::<3>(octaves, turbulence, [x, y, z], out) }
+}
+
+/// The same over 2D points.
+pub(super) fn sum2(octaves: &[Octave], turbulence: bool, x: &[f32], y: &[f32], out: &mut [f32]) -> usize {
+    if octaves.is_empty() {
+        return 0;
+    }
+    // SAFETY: as `sum3`.
+    unsafe { hashed_sum::<2>(octaves, turbulence, [x, y], out) }
 }
 
 #[target_feature(enable = "avx512f")]
-unsafe fn hashed_sum3(octaves: &[Octave], turbulence: bool, x: &[f32], y: &[f32], z: &[f32], out: &mut [f32]) -> usize {
-    let n = out.len().min(x.len()).min(y.len()).min(z.len());
+unsafe fn hashed_sum<const D: usize>(octaves: &[Octave], turbulence: bool, p: [&[f32]; D], out: &mut [f32]) -> usize {
+    let n = p.iter().fold(out.len(), |n, c| n.min(c.len()));
     let full = n - n % WIDTH;
-    let gradients = Gradients::new();
+    let gradients = Gradients::<D>::new();
     for i in (0..full).step_by(WIDTH) {
         // SAFETY: i + WIDTH <= full <= every slice's length.
-        let (px, py, pz) = (
-            _mm512_loadu_ps(x.as_ptr().add(i)),
-            _mm512_loadu_ps(y.as_ptr().add(i)),
-            _mm512_loadu_ps(z.as_ptr().add(i)),
-        );
+        let at: [__m512; D] = std::array::from_fn(|a| unsafe { _mm512_loadu_ps(p[a].as_ptr().add(i)) });
         let mut sum = _mm512_setzero_ps();
         for o in octaves {
             let f = _mm512_set1_ps(o.frequency);
-            let at = |p: __m512, axis: usize| _mm512_add_ps(_mm512_mul_ps(p, f), _mm512_set1_ps(o.shift[axis]));
-            let v = noise3(o, &gradients, at(px, 0), at(py, 1), at(pz, 2));
+            let q = std::array::from_fn(|a| _mm512_add_ps(_mm512_mul_ps(at[a], f), _mm512_set1_ps(o.shift[a])));
+            let v = noise(o, &gradients, q);
             let v = if turbulence { _mm512_abs_ps(v) } else { v };
             sum = _mm512_add_ps(sum, _mm512_mul_ps(_mm512_set1_ps(o.amplitude), v));
         }
@@ -73,30 +78,37 @@ unsafe fn hashed_sum3(octaves: &[Octave], turbulence: bool, x: &[f32], y: &[f32]
     full
 }
 
-/// The improved gradients, one register per component, indexed by the four-bit hash.
-struct Gradients([__m512; 3]);
+/// The improved gradients of D dimensions, one register per component, indexed by the hash (sixteen
+/// entries in 3D, eight in 2D).
+struct Gradients<const D: usize>([__m512; D]);
 
-impl Gradients {
+impl<const D: usize> Gradients<D> {
     #[inline]
     #[target_feature(enable = "avx512f")]
-    fn new() -> Gradients {
-        let g: [[f32; 3]; 16] = std::array::from_fn(improved_gradient3);
-        let component = |c: usize| {
+    fn new() -> Gradients<D> {
+        let g: [[f32; 3]; 16] = std::array::from_fn(|h| match D {
+            3 => improved_gradient3(h),
+            _ => {
+                let g = improved_gradient2(h);
+                [g[0], g[1], 0.0]
+            }
+        });
+        Gradients(std::array::from_fn(|c| {
             let v: [f32; 16] = std::array::from_fn(|h| g[h][c]);
             // SAFETY: an unaligned load of sixteen floats from an array of sixteen.
             unsafe { _mm512_loadu_ps(v.as_ptr()) }
-        };
-        Gradients([component(0), component(1), component(2)])
+        }))
     }
 
-    /// The gradient of hash `h` dotted with (dx, dy, dz).
+    /// The gradient of hash `h` dotted with the offsets d, summed in the scalar kernel's order.
     #[inline]
     #[target_feature(enable = "avx512f")]
-    fn dot(&self, h: __m512i, dx: __m512, dy: __m512, dz: __m512) -> __m512 {
-        let [gx, gy, gz] = &self.0;
-        let p = _mm512_mul_ps(_mm512_permutexvar_ps(h, *gx), dx);
-        let p = _mm512_fmadd_ps(_mm512_permutexvar_ps(h, *gy), dy, p);
-        _mm512_fmadd_ps(_mm512_permutexvar_ps(h, *gz), dz, p)
+    fn dot(&self, h: __m512i, d: [__m512; D]) -> __m512 {
+        let mut sum = _mm512_mul_ps(_mm512_permutexvar_ps(h, self.0[0]), d[0]);
+        for c in 1..D {
+            sum = _mm512_fmadd_ps(_mm512_permutexvar_ps(h, self.0[c]), d[c], sum);
+        }
+        sum
     }
 }
 
@@ -129,34 +141,37 @@ fn primed_cell(x: __m512, period: Option<f32>, prime: i32) -> (__m512i, __m512i,
     }
 }
 
-/// The hashed improved noise at sixteen points.
+/// The hashed improved noise at sixteen points of D dimensions (2 or 3).
 #[inline]
 #[target_feature(enable = "avx512f")]
-fn noise3(o: &Octave, g: &Gradients, x: __m512, y: __m512, z: __m512) -> __m512 {
-    let period = |axis: usize| o.period.map(|p| p[axis]);
-    let (x0, x1, fx) = primed_cell(x, period(0), HASH_PRIME[0]);
-    let (y0, y1, fy) = primed_cell(y, period(1), HASH_PRIME[1]);
-    let (z0, z1, fz) = primed_cell(z, period(2), HASH_PRIME[2]);
+fn noise<const D: usize>(o: &Octave, g: &Gradients<D>, p: [__m512; D]) -> __m512 {
+    let cells: [_; D] = std::array::from_fn(|a| primed_cell(p[a], o.period.map(|p| p[a]), HASH_PRIME[a]));
     let seed = _mm512_set1_epi32(o.seed);
-    let (s0, s1) = (_mm512_xor_si512(seed, x0), _mm512_xor_si512(seed, x1));
-    let xy = [_mm512_xor_si512(s0, y0), _mm512_xor_si512(s1, y0), _mm512_xor_si512(s0, y1), _mm512_xor_si512(s1, y1)];
     let mix = _mm512_set1_epi32(HASH_MIX);
-    let hash = |a: __m512i, zp: __m512i| _mm512_srli_epi32::<28>(_mm512_mullo_epi32(_mm512_xor_si512(a, zp), mix));
     let one = _mm512_set1_ps(1.0);
-    let (gx, gy, gz) = (_mm512_sub_ps(fx, one), _mm512_sub_ps(fy, one), _mm512_sub_ps(fz, one));
-    let n000 = g.dot(hash(xy[0], z0), fx, fy, fz);
-    let n100 = g.dot(hash(xy[1], z0), gx, fy, fz);
-    let n010 = g.dot(hash(xy[2], z0), fx, gy, fz);
-    let n110 = g.dot(hash(xy[3], z0), gx, gy, fz);
-    let n001 = g.dot(hash(xy[0], z1), fx, fy, gz);
-    let n101 = g.dot(hash(xy[1], z1), gx, fy, gz);
-    let n011 = g.dot(hash(xy[2], z1), fx, gy, gz);
-    let n111 = g.dot(hash(xy[3], z1), gx, gy, gz);
-    let (u, v, w) = (fade(fx), fade(fy), fade(fz));
+    // Corner c (index bits x, y, z = 1, 2, 4): its primed indices XORed with the seed, and its offsets.
+    let corner = |c: usize| {
+        let mut h = seed;
+        let mut d = [one; D];
+        for (a, (i0, i1, f)) in cells.iter().enumerate() {
+            let far = c >> a & 1 == 1;
+            h = _mm512_xor_si512(h, if far { *i1 } else { *i0 });
+            d[a] = if far { _mm512_sub_ps(*f, one) } else { *f };
+        }
+        // The top four bits of the mixed hash (3D), or its top three (2D).
+        let h = _mm512_srli_epi32::<28>(_mm512_mullo_epi32(h, mix));
+        let h = if D == 2 { _mm512_srli_epi32::<1>(h) } else { h };
+        g.dot(h, d)
+    };
     let lerp = |t: __m512, a: __m512, b: __m512| _mm512_add_ps(a, _mm512_mul_ps(t, _mm512_sub_ps(b, a)));
-    let near = lerp(v, lerp(u, n000, n100), lerp(u, n010, n110));
-    let far = lerp(v, lerp(u, n001, n101), lerp(u, n011, n111));
-    lerp(w, near, far)
+    let fades: [__m512; D] = std::array::from_fn(|a| fade(cells[a].2));
+    let (u, v) = (fades[0], fades[1]);
+    let near = lerp(v, lerp(u, corner(0), corner(1)), lerp(u, corner(2), corner(3)));
+    if D == 2 {
+        return near;
+    }
+    let far = lerp(v, lerp(u, corner(4), corner(5)), lerp(u, corner(6), corner(7)));
+    lerp(fades[D - 1], near, far)
 }
 
 /// The quintic fade t^3 (t (6t - 15) + 10), in the scalar kernel's order.

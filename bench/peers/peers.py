@@ -1,0 +1,221 @@
+#!/usr/bin/env python3
+"""The table of bench/peers/run: every workload on wrinkle and on each peer, alternating tool by tool, round
+by round, after one warm-up run each; then one line per workload and tool with the median and best of the
+rounds, wrinkle's advantage (peer time / wrinkle time, or wrinkle rate / peer rate) and the CPU model.
+
+Run through bench/peers/run, which installs the peers and builds wrinkle and FastNoise2 first.
+usage: peers.py --work DIR [--quick] [--rounds N] [--only noise,emboss,normalmap,mesh]
+"""
+import argparse
+import os
+import re
+import shutil
+import statistics
+import subprocess
+import sys
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+WRINKLE = os.path.join(ROOT, "target", "release", "wrinkle")
+FASTNOISE2 = os.path.join(ROOT, "target", "peers", "release", "fastnoise2-bench")
+
+
+def cpu_model():
+    info = {}
+    with open("/proc/cpuinfo") as f:
+        for line in f:
+            key, _, value = line.partition(":")
+            info.setdefault(key.strip(), value.strip())
+    flags = info.get("flags", "").split()
+    wide = "AVX-512" if "avx512f" in flags else "AVX2" if "avx2" in flags else "SSE"
+    return (f"{info.get('model name', '?')} (family {info.get('cpu family', '?')} model {info.get('model', '?')}, "
+            f"{wide}), {os.cpu_count()} cores")
+
+
+def keyvalues(text):
+    """The key=value pairs of a line like bench-noise's."""
+    return {k: v for k, v in re.findall(r"(\w+)=([^\s]+)", text)}
+
+
+class Tool:
+    """One tool's command on one workload; `measure` runs it once and returns {metric: value}."""
+
+    def __init__(self, name, argv, read):
+        self.name, self.argv, self.read = name, argv, read
+        self.samples = {}
+
+    def measure(self):
+        start = time.perf_counter()
+        run = subprocess.run(self.argv, capture_output=True, text=True, cwd=ROOT)
+        wall = time.perf_counter() - start
+        if run.returncode != 0:
+            raise RuntimeError(f"{self.name}: {' '.join(self.argv)} failed: {run.stderr.strip()[-300:]}")
+        return self.read(run.stdout + run.stderr, wall)
+
+
+def wall_ms(metric):
+    return lambda out, wall: {metric: 1e3 * wall}
+
+
+def fields(mapping):
+    """Reads metrics from key=value output: mapping is {metric: key}."""
+    def read(out, wall):
+        kv = keyvalues(out)
+        return {metric: float(kv[key]) for metric, key in mapping.items()}
+    return read
+
+
+# Metric name -> (unit, higher is better).
+UNITS = {}
+
+
+def metric(name, unit, higher_better):
+    UNITS[name] = (unit, higher_better)
+    return name
+
+
+def noise_workload(args):
+    points, inner = (1_000_000, 3) if args.quick else (4_000_000, 7)
+    perlin = metric("3D Perlin noise, random points, 1 thread", "M points/s", True)
+    fbm = metric("3D 6-octave fBm, 1 thread", "M points/s", True)
+    image = metric("1024x1024 2D 6-octave fBm image, 1 thread", "ms", False)
+    tools = [Tool("wrinkle", [WRINKLE, "bench-noise", "--threads", "1", "--rounds", str(inner), "--points", str(points)],
+                  fields({perlin: "perlin3_mpts", fbm: "fbm6_mpts", image: "texture1024_fbm_ms"})),
+             Tool("wrinkle, Perlin's table (reference values)",
+                  [WRINKLE, "bench-noise", "--threads", "1", "--rounds", str(inner), "--points", str(points)],
+                  fields({perlin: "perlin3_reference_mpts", fbm: "fbm6_reference_mpts",
+                          image: "texture1024_fbm_reference_ms"}))]
+    if os.access(FASTNOISE2, os.X_OK):
+        tools.append(Tool("FastNoise2 (fastnoise2 0.4 crate, its C++ library)", [FASTNOISE2, str(points), str(inner), "1"],
+                          fields({perlin: "perlin3_mpts", fbm: "fbm6_mpts", image: "texture1024_fbm_ms"})))
+    else:
+        print("left out: FastNoise2 (not built; see out/peers/fastnoise2.log)", file=sys.stderr)
+    return tools
+
+
+def height_image(args, work):
+    """A grey 8-bit height map with detail at every scale: ImageMagick's seeded plasma, blurred a little."""
+    size = 2048 if args.quick else 4096
+    path = os.path.join(work, f"height{size}.png")
+    if not os.path.exists(path):
+        im = shutil.which("convert-im6.q16") or shutil.which("magick") or shutil.which("convert")
+        if im is None:
+            raise RuntimeError("ImageMagick is needed to make the height map")
+        subprocess.run([im, "-seed", "7", "-size", f"{size}x{size}", "plasma:fractal", "-blur", "0x2", "-colorspace",
+                        "Gray", "-depth", "8", "-define", "png:color-type=0", path], check=True)
+    return path
+
+
+def python_has(*modules):
+    return subprocess.run([sys.executable, "-c", "import " + ", ".join(modules)], capture_output=True).returncode == 0
+
+
+def emboss_workload(args, work):
+    src = height_image(args, work)
+    size = "2048^2" if args.quick else "4096^2"
+    m = metric(f"emboss {size} grey PNG, whole command", "ms", False)
+    out = lambda name: os.path.join(work, name)
+    tools = [Tool("wrinkle", [WRINKLE, "emboss", src, "-o", out("w_emboss.png")], wall_ms(m))]
+    im = shutil.which("convert-im6.q16") or shutil.which("magick")
+    if im:
+        tools.append(Tool("ImageMagick -shade 135x45, PNG level 1",
+                          [im, src, "-shade", "135x45", "-define", "png:compression-level=1", out("im_shade.png")],
+                          wall_ms(m)))
+    else:
+        print("left out: ImageMagick (not installed)", file=sys.stderr)
+    if python_has("numpy", "cv2"):
+        tools.append(Tool("NumPy + OpenCV (bench/emboss_numpy.py)",
+                          [sys.executable, "bench/emboss_numpy.py", "emboss", src, out("np_emboss.png")], wall_ms(m)))
+    else:
+        print("left out: NumPy + OpenCV (not installed)", file=sys.stderr)
+    return tools
+
+
+def normalmap_workload(args, work):
+    src = height_image(args, work)
+    size = "2048^2" if args.quick else "4096^2"
+    m = metric(f"normal map {size} grey PNG, whole command", "ms", False)
+    out = lambda name: os.path.join(work, name)
+    tools = [Tool("wrinkle", [WRINKLE, "normalmap", src, "-o", out("w_normal.png")], wall_ms(m))]
+    if python_has("numpy", "cv2"):
+        tools.append(Tool("NumPy + OpenCV (bench/emboss_numpy.py)",
+                          [sys.executable, "bench/emboss_numpy.py", "normalmap", src, out("np_normal.png")],
+                          wall_ms(m)))
+    else:
+        print("left out: NumPy + OpenCV (not installed)", file=sys.stderr)
+    return tools
+
+
+def mesh_workload(args, work):
+    folder = os.path.join(work, "mesh")
+    os.makedirs(folder, exist_ok=True)
+    if not os.path.exists(os.path.join(folder, "sphere.obj")):
+        subprocess.run([sys.executable, "bench/mesh_sphere.py", folder], check=True, cwd=ROOT)
+        shutil.copy(os.path.join(ROOT, "bench/canonical/bricks_color.png"), folder)
+        subprocess.run([WRINKLE, "normalmap", "bench/canonical/bricks_height.png", "-o",
+                        os.path.join(folder, "bricks_normal.png"), "--strength", "2", "--wrap"], check=True, cwd=ROOT,
+                       capture_output=True)
+    shutil.copy(os.path.join(ROOT, "bench/mesh/scene.toml"), os.path.join(folder, "mesh.toml"))
+    frames = "3" if args.quick else "9"
+    m = metric("1M-triangle normal-mapped mesh 1920x1080 1 spp, frame", "ms", False)
+    tools = [Tool("wrinkle (2 threads)", [WRINKLE, "bench", os.path.join(folder, "mesh.toml"), "--width", "1920",
+                                          "--height", "1080", "--frames", frames], fields({m: "median_ms"}))]
+    if python_has("moderngl", "numpy", "PIL"):
+        tools.append(Tool("Mesa llvmpipe (moderngl, EGL)", [sys.executable, "bench/llvmpipe_mesh.py", folder, frames],
+                          fields({m: "median_ms"})))
+    else:
+        print("left out: llvmpipe (moderngl not installed)", file=sys.stderr)
+    return tools
+
+
+WORKLOADS = {
+    "noise": lambda a, w: noise_workload(a),
+    "emboss": emboss_workload,
+    "normalmap": normalmap_workload,
+    "mesh": mesh_workload,
+}
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--work", required=True)
+    parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--rounds", type=int)
+    parser.add_argument("--only", default=",".join(WORKLOADS))
+    args = parser.parse_args()
+    rounds = args.rounds or (2 if args.quick else 5)
+    chosen = [w.strip() for w in args.only.split(",") if w.strip()]
+    unknown = [w for w in chosen if w not in WORKLOADS]
+    if unknown:
+        sys.exit(f"peers.py: unknown workload {', '.join(unknown)} (expected some of {', '.join(WORKLOADS)})")
+    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, cwd=ROOT).stdout.strip()
+    print(f"CPU: {cpu_model()}; wrinkle {commit}; {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}; "
+          f"{rounds} rounds, alternating, after a warm-up", flush=True)
+    rows = []
+    for name in chosen:
+        tools = WORKLOADS[name](args, args.work)
+        for tool in tools:
+            tool.measure()  # warm-up: caches, page cache, lazy loading
+        for r in range(rounds):
+            for tool in tools:
+                for m, v in tool.measure().items():
+                    tool.samples.setdefault(m, []).append(v)
+            print(f"{name}: round {r + 1}/{rounds} done", file=sys.stderr, flush=True)
+        rows.extend(tools)
+    print("| workload | tool | median | best | unit | wrinkle's advantage |")
+    print("| --- | --- | --- | --- | --- | --- |")
+    for m, (unit, higher) in UNITS.items():
+        ours = None
+        for tool in rows:
+            if m not in tool.samples:
+                continue
+            s = tool.samples[m]
+            median, best = statistics.median(s), (max(s) if higher else min(s))
+            if ours is None:
+                ours = median  # the first tool of every workload is wrinkle
+            ratio = (ours / median) if higher else (median / ours)
+            print(f"| {m} | {tool.name} | {median:.1f} | {best:.1f} | {unit} | {ratio:.2f}x |")
+
+
+if __name__ == "__main__":
+    main()
