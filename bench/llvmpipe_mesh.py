@@ -2,38 +2,27 @@
 """The peer of bench/mesh.sh: the same 1M-triangle UV sphere (bench/mesh_sphere.py's vertices, uv and normals,
 its analytic tangents), the same colour texture (sRGB) and normal map (linear), both trilinear, the same camera
 and two directional lights with Blinn-Phong, rendered by Mesa's llvmpipe (OpenGL 4.5 through EGL, moderngl) into
-a 1920x1080 framebuffer with back faces culled. Prints the median frame time (glFinish after each frame).
+a 1920x1080 framebuffer with back faces culled. Prints the median frame time (glFinish after each frame) and
+writes the last frame to OUT.png when given.
 
-Usage: llvmpipe_mesh.py DIR_WITH_TEXTURES [FRAMES]   (needs: pip install moderngl numpy pillow)
+Usage: llvmpipe_mesh.py DIR_WITH_TEXTURES [FRAMES [OUT.png]]   (needs: pip install moderngl numpy pillow)
 """
-import statistics
 import sys
-import time
 
-import moderngl
 import numpy as np
-from PIL import Image
+
+from llvmpipe_common import context, mvp, texture, time_frames, uv_sphere
 
 folder = sys.argv[1]
 frames = int(sys.argv[2]) if len(sys.argv) > 2 else 9
-nu, nv = 1000, 500
-W, H = 1920, 1080
+out_png = sys.argv[3] if len(sys.argv) > 3 else None
 
-# The vertices of bench/mesh_sphere.py: u the longitude from +x (0.25 at -z), v the latitude.
-u = np.arange(nu + 1) / nu
-v = np.arange(nv + 1) / nv
-phi, theta = np.meshgrid(2 * np.pi * u, np.pi * (v - 0.5))
-c, s = np.cos(theta), np.sin(theta)
-pos = np.stack([c * np.cos(phi), s, -c * np.sin(phi)], -1).reshape(-1, 3)
-uv = np.stack(np.meshgrid(u, v), -1).reshape(-1, 2)
-tangent = np.stack([-np.sin(phi), np.zeros_like(phi), -np.cos(phi)], -1).reshape(-1, 3)
+# The vertices of bench/mesh_sphere.py, with the analytic tangent: dP/du's direction (defined at the poles too).
+pos, uv, _, _, indices = uv_sphere(1000, 500)
+phi = 2 * np.pi * uv[:, 0]
+tangent = np.stack([-np.sin(phi), np.zeros_like(phi), -np.cos(phi)], -1)
 vertices = np.concatenate([pos, pos, uv, tangent], 1).astype("f4")
-a = (np.arange(nv)[:, None] * (nu + 1) + np.arange(nu)[None, :]).reshape(-1)
-b, cc, d = a + 1, a + nu + 2, a + nu + 1
-indices = np.stack([a, b, cc, a, cc, d], 1).astype("i4").reshape(-1)
-
-ctx = moderngl.create_standalone_context(backend="egl")
-renderer = ctx.info["GL_RENDERER"]
+ctx, _ = context()
 prog = ctx.program(
     vertex_shader="""
 #version 330
@@ -72,38 +61,10 @@ void main() {
 vbo = ctx.buffer(vertices.tobytes())
 ibo = ctx.buffer(indices.tobytes())
 vao = ctx.vertex_array(prog, [(vbo, "3f 3f 2f 3f", "in_pos", "in_normal", "in_uv", "in_tangent")], ibo)
-
-
-def texture(name, srgb):
-    img = Image.open(f"{folder}/{name}").convert("RGBA").transpose(Image.FLIP_TOP_BOTTOM)
-    tex = ctx.texture(img.size, 4, img.tobytes(), internal_format=0x8C43 if srgb else None)
-    tex.build_mipmaps()
-    tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
-    return tex
-
-
-texture("bricks_color.png", True).use(0)
-texture("bricks_normal.png", False).use(1)
+texture(ctx, f"{folder}/bricks_color.png", True).use(0)
+texture(ctx, f"{folder}/bricks_normal.png", False).use(1)
 prog["colour"] = 0
 prog["normals"] = 1
 prog["eye"] = (0.0, 0.0, 4.0)
-f = 1.0 / np.tan(np.radians(40.0) / 2)
-near, far = 0.1, 10.0
-proj = np.array(
-    [[f * H / W, 0, 0, 0], [0, f, 0, 0], [0, 0, (far + near) / (near - far), 2 * far * near / (near - far)], [0, 0, -1, 0]]
-)
-view = np.eye(4)
-view[2, 3] = -4.0
-prog["mvp"].write((proj @ view).T.astype("f4").tobytes())
-fbo = ctx.simple_framebuffer((W, H), components=4)
-fbo.use()
-ctx.enable(moderngl.DEPTH_TEST | moderngl.CULL_FACE)
-times = []
-for k in range(frames + 1):
-    start = time.perf_counter()
-    fbo.clear(0.0, 0.0, 0.0, 1.0)
-    vao.render()
-    ctx.finish()
-    if k > 0:
-        times.append((time.perf_counter() - start) * 1e3)
-print(f"llvmpipe median_ms={statistics.median(times):.2f} min_ms={min(times):.2f} frames={frames} renderer={renderer!r}")
+prog["mvp"].write(mvp())
+time_frames(ctx, vao, frames, out_png)

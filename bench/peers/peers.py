@@ -4,7 +4,7 @@ by round, after one warm-up run each; then one line per workload and tool with t
 rounds, wrinkle's advantage (peer time / wrinkle time, or wrinkle rate / peer rate) and the CPU model.
 
 Run through bench/peers/run, which installs the peers and builds wrinkle and FastNoise2 first.
-usage: peers.py --work DIR [--quick] [--rounds N] [--only noise,emboss,normalmap,mesh]
+usage: peers.py --work DIR [--quick] [--rounds N] [--only canonical,noise,emboss,normalmap,mesh]
 """
 import argparse
 import os
@@ -38,11 +38,13 @@ def keyvalues(text):
 
 
 class Tool:
-    """One tool's command on one workload; `measure` runs it once and returns {metric: value}."""
+    """One tool's command on one workload; `measure` runs it once and returns {metric: value}. `picture`, when
+    given, is the frame it writes, compared with wrinkle's after the rounds; `note` is what that found."""
 
-    def __init__(self, name, argv, read):
-        self.name, self.argv, self.read = name, argv, read
+    def __init__(self, name, argv, read, picture=None):
+        self.name, self.argv, self.read, self.picture = name, argv, read, picture
         self.samples = {}
+        self.note = ""
 
     def measure(self):
         start = time.perf_counter()
@@ -146,6 +148,36 @@ def normalmap_workload(args, work):
     return tools
 
 
+def psnr(a_png, b_png):
+    """PSNR (8-bit) of two frames over the pixels either covers (both backgrounds are black)."""
+    import numpy as np
+    from PIL import Image
+    a = np.asarray(Image.open(a_png).convert("RGB"), np.float64)
+    b = np.asarray(Image.open(b_png).convert("RGB"), np.float64)
+    covered = (a.sum(2) > 0) | (b.sum(2) > 0)
+    mse = ((a - b) ** 2)[covered].mean()
+    return 10 * np.log10(255 ** 2 / max(mse, 1e-12))
+
+
+def canonical_workload(args, work):
+    frames = "3" if args.quick else "9"
+    m = metric("canonical bump-mapped sphere 1920x1080 1 spp, frame", "ms", False)
+    scene = os.path.join(ROOT, "bench/canonical/sphere.toml")
+    ours = os.path.join(work, "wrinkle_canonical.png")
+    subprocess.run([WRINKLE, "render", scene, "-o", ours, "--width", "1920", "--height", "1080"], check=True,
+                   capture_output=True)
+    tools = [Tool("wrinkle (2 threads)", [WRINKLE, "bench", scene, "--width", "1920", "--height", "1080", "--frames",
+                                          frames], fields({m: "median_ms"}), picture=ours)]
+    if python_has("moderngl", "numpy", "PIL"):
+        theirs = os.path.join(work, "llvmpipe_canonical.png")
+        tools.append(Tool("Mesa llvmpipe (GLSL Blinn bump, 512x256 sphere mesh)",
+                          [sys.executable, "bench/llvmpipe_canonical.py", "bench/canonical", theirs, frames],
+                          fields({m: "median_ms"}), picture=theirs))
+    else:
+        print("left out: llvmpipe (moderngl not installed)", file=sys.stderr)
+    return tools
+
+
 def mesh_workload(args, work):
     folder = os.path.join(work, "mesh")
     os.makedirs(folder, exist_ok=True)
@@ -158,17 +190,24 @@ def mesh_workload(args, work):
     shutil.copy(os.path.join(ROOT, "bench/mesh/scene.toml"), os.path.join(folder, "mesh.toml"))
     frames = "3" if args.quick else "9"
     m = metric("1M-triangle normal-mapped mesh 1920x1080 1 spp, frame", "ms", False)
-    tools = [Tool("wrinkle (2 threads)", [WRINKLE, "bench", os.path.join(folder, "mesh.toml"), "--width", "1920",
-                                          "--height", "1080", "--frames", frames], fields({m: "median_ms"}))]
+    scene = os.path.join(folder, "mesh.toml")
+    ours = os.path.join(work, "wrinkle_mesh.png")
+    subprocess.run([WRINKLE, "render", scene, "-o", ours, "--width", "1920", "--height", "1080"], check=True,
+                   capture_output=True)
+    tools = [Tool("wrinkle (2 threads)", [WRINKLE, "bench", scene, "--width", "1920", "--height", "1080", "--frames",
+                                          frames], fields({m: "median_ms"}), picture=ours)]
     if python_has("moderngl", "numpy", "PIL"):
-        tools.append(Tool("Mesa llvmpipe (moderngl, EGL)", [sys.executable, "bench/llvmpipe_mesh.py", folder, frames],
-                          fields({m: "median_ms"})))
+        theirs = os.path.join(work, "llvmpipe_mesh.png")
+        tools.append(Tool("Mesa llvmpipe (GLSL normal mapping)",
+                          [sys.executable, "bench/llvmpipe_mesh.py", folder, frames, theirs], fields({m: "median_ms"}),
+                          picture=theirs))
     else:
         print("left out: llvmpipe (moderngl not installed)", file=sys.stderr)
     return tools
 
 
 WORKLOADS = {
+    "canonical": canonical_workload,
     "noise": lambda a, w: noise_workload(a),
     "emboss": emboss_workload,
     "normalmap": normalmap_workload,
@@ -201,9 +240,12 @@ def main():
                 for m, v in tool.measure().items():
                     tool.samples.setdefault(m, []).append(v)
             print(f"{name}: round {r + 1}/{rounds} done", file=sys.stderr, flush=True)
+        for tool in tools[1:]:
+            if tool.picture and tools[0].picture and python_has("numpy", "PIL"):
+                tool.note = f"PSNR {psnr(tools[0].picture, tool.picture):.1f} dB against wrinkle's frame"
         rows.extend(tools)
-    print("| workload | tool | median | best | unit | wrinkle's advantage |")
-    print("| --- | --- | --- | --- | --- | --- |")
+    print("| workload | tool | median | best | unit | wrinkle's advantage | picture |")
+    print("| --- | --- | --- | --- | --- | --- | --- |")
     for m, (unit, higher) in UNITS.items():
         ours = None
         for tool in rows:
@@ -214,7 +256,7 @@ def main():
             if ours is None:
                 ours = median  # the first tool of every workload is wrinkle
             ratio = (ours / median) if higher else (median / ours)
-            print(f"| {m} | {tool.name} | {median:.1f} | {best:.1f} | {unit} | {ratio:.2f}x |")
+            print(f"| {m} | {tool.name} | {median:.1f} | {best:.1f} | {unit} | {ratio:.2f}x | {tool.note} |")
 
 
 if __name__ == "__main__":

@@ -1,0 +1,80 @@
+"""What the llvmpipe peers share: the UV sphere of wrinkle's `sphere` shape as triangles, an EGL context on
+Mesa's llvmpipe (moderngl), mipmapped textures, the camera at (0, 0, 4) with fov_y 40, timed frames and the
+frame written as a PNG. Needs: pip install moderngl numpy pillow."""
+import statistics
+import time
+
+import moderngl
+import numpy as np
+from PIL import Image
+
+W, H = 1920, 1080
+
+# sRGB's encoding, for fragment shaders that compute in linear light.
+SRGB_GLSL = """
+vec3 srgb(vec3 c) {
+    c = clamp(c, 0.0, 1.0);
+    return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));
+}
+"""
+
+
+def uv_sphere(nu, nv):
+    """Vertices (position, normal, uv, dP/du, dP/dv) and triangle indices of the unit sphere with the `sphere`
+    shape's (u, v): u the longitude from +x (0.25 at -z), v the latitude from the south pole."""
+    u, v = np.arange(nu + 1) / nu, np.arange(nv + 1) / nv
+    phi, theta = np.meshgrid(2 * np.pi * u, np.pi * (v - 0.5))
+    c, s = np.cos(theta), np.sin(theta)
+    pos = np.stack([c * np.cos(phi), s, -c * np.sin(phi)], -1).reshape(-1, 3)
+    uv = np.stack(np.meshgrid(u, v), -1).reshape(-1, 2)
+    pu = 2 * np.pi * np.stack([-c * np.sin(phi), np.zeros_like(phi), -c * np.cos(phi)], -1).reshape(-1, 3)
+    pv = np.pi * np.stack([-s * np.cos(phi), c, s * np.sin(phi)], -1).reshape(-1, 3)
+    a = (np.arange(nv)[:, None] * (nu + 1) + np.arange(nu)[None, :]).reshape(-1)
+    b, cc, d = a + 1, a + nu + 2, a + nu + 1
+    indices = np.stack([a, b, cc, a, cc, d], 1).astype("i4").reshape(-1)
+    return pos, uv, pu, pv, indices
+
+
+def context():
+    ctx = moderngl.create_standalone_context(backend="egl")
+    return ctx, ctx.info["GL_RENDERER"]
+
+
+def texture(ctx, path, srgb):
+    """A trilinear, repeating texture (sRGB-decoded when `srgb`), rows bottom-up as OpenGL reads them."""
+    img = Image.open(path).convert("RGBA").transpose(Image.FLIP_TOP_BOTTOM)
+    tex = ctx.texture(img.size, 4, img.tobytes(), internal_format=0x8C43 if srgb else None)
+    tex.build_mipmaps()
+    tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR, moderngl.LINEAR)
+    return tex
+
+
+def mvp():
+    """Projection times view of the benchmark camera: eye (0, 0, 4) looking at the origin, fov_y 40."""
+    f = 1.0 / np.tan(np.radians(40.0) / 2)
+    near, far = 0.1, 10.0
+    proj = np.array([[f * H / W, 0, 0, 0], [0, f, 0, 0],
+                     [0, 0, (far + near) / (near - far), 2 * far * near / (near - far)], [0, 0, -1, 0]])
+    view = np.eye(4)
+    view[2, 3] = -4.0
+    return (proj @ view).T.astype("f4").tobytes()
+
+
+def time_frames(ctx, vao, frames, out_png=None):
+    """Renders frames + 1 frames into a 1920x1080 framebuffer (depth test, back faces culled), each ended by
+    glFinish; prints the median and best of all but the first; writes the last as out_png when given."""
+    fbo = ctx.simple_framebuffer((W, H), components=4)
+    fbo.use()
+    ctx.enable(moderngl.DEPTH_TEST | moderngl.CULL_FACE)
+    times = []
+    for k in range(frames + 1):
+        start = time.perf_counter()
+        fbo.clear(0.0, 0.0, 0.0, 1.0)
+        vao.render()
+        ctx.finish()
+        if k > 0:
+            times.append((time.perf_counter() - start) * 1e3)
+    if out_png:
+        Image.frombytes("RGBA", (W, H), fbo.read(components=4)).transpose(Image.FLIP_TOP_BOTTOM).convert("RGB").save(out_png)
+    print(f"llvmpipe median_ms={statistics.median(times):.2f} min_ms={min(times):.2f} frames={frames} "
+          f"renderer={ctx.info['GL_RENDERER']!r}")
