@@ -16,6 +16,11 @@ import sys
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+# Dr.Jit's LLVM backend (Mitsuba's llvm variants) needs a libLLVM newer than the one Mesa brings.
+for _llvm in ["/usr/lib/x86_64-linux-gnu/libLLVM-19.so", "/usr/lib/llvm-19/lib/libLLVM.so"]:
+    if os.path.exists(_llvm):
+        os.environ.setdefault("DRJIT_LIBLLVM_PATH", _llvm)
+        break
 WRINKLE = os.path.join(ROOT, "target", "release", "wrinkle")
 FASTNOISE2 = os.path.join(ROOT, "target", "peers", "release", "fastnoise2-bench")
 
@@ -125,6 +130,14 @@ def emboss_workload(args, work):
                           wall_ms(m)))
     else:
         print("left out: ImageMagick (not installed)", file=sys.stderr)
+    if shutil.which("gegl"):
+        # GEGL's own emboss (GIMP's filter): depth 3 is the nearest to the others' bevel; it pads its output by
+        # three pixels and writes 16-bit grey with alpha.
+        tools.append(Tool("GEGL gegl:emboss (the gegl command)", ["gegl", src, "-o", out("gegl_emboss.png"), "--",
+                                                                  "gegl:emboss", "azimuth=135", "elevation=45",
+                                                                  "depth=3"], wall_ms(m)))
+    else:
+        print("left out: GEGL (not installed)", file=sys.stderr)
     if python_has("numpy", "cv2"):
         tools.append(Tool("NumPy + OpenCV (bench/emboss_numpy.py)",
                           [sys.executable, "bench/emboss_numpy.py", "emboss", src, out("np_emboss.png")], wall_ms(m)))
@@ -175,6 +188,13 @@ def canonical_workload(args, work):
                           fields({m: "median_ms"}), picture=theirs))
     else:
         print("left out: llvmpipe (moderngl not installed)", file=sys.stderr)
+    if python_has("mitsuba"):
+        for variant in ["llvm_ad_rgb", "scalar_rgb"]:
+            tools.append(Tool(f"Mitsuba 3 {variant} (bumpmap BSDF, direct lighting)",
+                              [sys.executable, "bench/mitsuba_canonical.py", variant, "bench/canonical",
+                               os.path.join(work, f"mitsuba_{variant}.png"), frames], fields({m: "median_ms"})))
+    else:
+        print("left out: Mitsuba 3 (not installed)", file=sys.stderr)
     return tools
 
 
