@@ -4,7 +4,7 @@ by round, after one warm-up run each; then one line per workload and tool with t
 rounds, wrinkle's advantage (peer time / wrinkle time, or wrinkle rate / peer rate) and the CPU model.
 
 Run through bench/peers/run, which installs the peers and builds wrinkle and FastNoise2 first.
-usage: peers.py --work DIR [--quick] [--rounds N] [--only canonical,noise,emboss,normalmap,mesh]
+usage: peers.py --work DIR [--quick] [--rounds N] [--only canonical,texture,noise,emboss,normalmap,mesh]
 """
 import argparse
 import os
@@ -23,6 +23,7 @@ for _llvm in ["/usr/lib/x86_64-linux-gnu/libLLVM-19.so", "/usr/lib/llvm-19/lib/l
         break
 WRINKLE = os.path.join(ROOT, "target", "release", "wrinkle")
 FASTNOISE2 = os.path.join(ROOT, "target", "peers", "release", "fastnoise2-bench")
+OIIO_LOOKUP = os.path.join(ROOT, "target", "peers", "oiio_lookup")
 
 
 def cpu_model():
@@ -97,6 +98,41 @@ def noise_workload(args):
                           fields({perlin: "perlin3_mpts", fbm: "fbm6_mpts", image: "texture1024_fbm_ms"})))
     else:
         print("left out: FastNoise2 (not built; see out/peers/fastnoise2.log)", file=sys.stderr)
+    return tools
+
+
+def line_fields(mapping):
+    """Reads metrics from the line that holds every `selector` word: mapping is {metric: (selector, key)}."""
+    def read(out, wall):
+        found = {}
+        for metric, (selector, key) in mapping.items():
+            line = next(l for l in out.splitlines() if all(w in l.split() for w in selector.split()))
+            found[metric] = float(keyvalues(line)[key])
+        return found
+    return read
+
+
+def texture_workload(args, work):
+    size, lookups, inner = ("2048", "200000", "1") if args.quick else ("4096", "1000000", "3")
+    tri, tri_lanes = (metric(f"trilinear lookups, iso footprints, random, {size}^2 RGBA8, 1 thread, {k}", "M/s", True)
+                      for k in ("one a call", "a batch a call (wrinkle 8, OIIO 16)"))
+    ani, ani_lanes = (metric(f"anisotropic 8:1 lookups, random, {size}^2 RGBA8, 1 thread, {k}", "M/s", True)
+                      for k in ("one a call", "a batch a call (wrinkle 8, OIIO 16)"))
+    build = metric(f"MIP pyramid build {size}^2 RGBA8, 1 thread", "ms", False)
+    iso, aniso = "filter=trilinear footprint=iso order=random", "filter=aniso footprint=aniso8 order=random"
+    tools = [Tool("wrinkle", [WRINKLE, "bench-texture", "--filters", "trilinear,aniso", "--size", size, "--lookups",
+                              lookups, "--rounds", inner, "--threads", "1"],
+                  line_fields({tri: (iso, "mlookups_per_s_1thread"), tri_lanes: (iso, "lanes8_1thread"),
+                               ani: (aniso, "mlookups_per_s_1thread"), ani_lanes: (aniso, "lanes8_1thread"),
+                               build: ("pyramid", "build_ms")}))]
+    if os.access(OIIO_LOOKUP, os.X_OK):
+        tools.append(Tool("OpenImageIO TextureSystem (C++, bench/peers/oiio)",
+                          [OIIO_LOOKUP, work, size, lookups, inner],
+                          line_fields({tri: (iso, "mlookups_per_s_1thread"), tri_lanes: (iso, "batch16_1thread"),
+                                       ani: (aniso, "mlookups_per_s_1thread"), ani_lanes: (aniso, "batch16_1thread"),
+                                       build: ("make_texture", "build_ms")})))
+    else:
+        print("left out: OpenImageIO (not built; see out/peers/oiio.log)", file=sys.stderr)
     return tools
 
 
@@ -228,6 +264,7 @@ def mesh_workload(args, work):
 
 WORKLOADS = {
     "canonical": canonical_workload,
+    "texture": texture_workload,
     "noise": lambda a, w: noise_workload(a),
     "emboss": emboss_workload,
     "normalmap": normalmap_workload,
