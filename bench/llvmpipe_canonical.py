@@ -4,10 +4,10 @@
 Blinn's bump mapping in the fragment shader: F = 0.004 h(8u, 4v) from the height map (bilinear, no mipmaps, as
 the scene's `interp = "bilinear"`), Fu and Fv by central differences of the table, N' = N + (Fu (N x Pv) -
 Fv (N x Pu)) / |N|; Blinn-Phong under the scene's two directional lights (intensities 2.6 and 0.8, specular 0.04,
-shininess 87), sRGB out; rendered by Mesa's llvmpipe at 1920x1080, 1 spp. Prints the median frame time and
-writes the last frame.
+shininess 87), sRGB out; rendered by Mesa's llvmpipe at 1920x1080, 1 spp, or supersampled SS x SS (the frame
+rendered SS times as wide and high). Prints the median frame time and writes the last frame.
 
-Usage: llvmpipe_canonical.py CANONICAL_DIR OUT.png [FRAMES]   (needs: pip install moderngl numpy pillow)
+Usage: llvmpipe_canonical.py CANONICAL_DIR OUT.png [FRAMES [SS]]   (needs: pip install moderngl numpy pillow)
 """
 import sys
 
@@ -18,6 +18,7 @@ from llvmpipe_common import SRGB_GLSL, context, mvp, texture, time_frames, uv_sp
 
 folder, out_png = sys.argv[1], sys.argv[2]
 frames = int(sys.argv[3]) if len(sys.argv) > 3 else 9
+supersample = int(sys.argv[4]) if len(sys.argv) > 4 else 1
 
 pos, uv, pu, pv, indices = uv_sphere(512, 256)
 vertices = np.concatenate([pos, uv, pu, pv], 1).astype("f4")
@@ -74,4 +75,4 @@ prog["colour"] = 0
 prog["height"] = 1
 prog["eye"] = (0.0, 0.0, 4.0)
 prog["mvp"].write(mvp())
-time_frames(ctx, vao, frames, out_png)
+time_frames(ctx, vao, frames, out_png, supersample)
