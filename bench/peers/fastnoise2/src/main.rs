@@ -64,7 +64,14 @@ fn run(make: &(dyn Fn() -> Node + Sync), xyz: &[Vec<f32>; 3], out: &mut [f32], t
                     // SAFETY: every slice has the output's length and the node's sources are set.
                     unsafe {
                         node.gen_position_array_3d_unchecked(
-                            oc, &xyz[0][r.clone()], &xyz[1][r.clone()], &xyz[2][r], 0.0, 0.0, 0.0, 0,
+                            oc,
+                            &xyz[0][r.clone()],
+                            &xyz[1][r.clone()],
+                            &xyz[2][r],
+                            0.0,
+                            0.0,
+                            0.0,
+                            0,
                         );
                     }
                 }
