@@ -105,8 +105,8 @@ impl<const D: usize> Gradients<D> {
     #[target_feature(enable = "avx512f")]
     fn dot(&self, h: __m512i, d: [__m512; D]) -> __m512 {
         let mut sum = _mm512_mul_ps(_mm512_permutexvar_ps(h, self.0[0]), d[0]);
-        for c in 1..D {
-            sum = _mm512_fmadd_ps(_mm512_permutexvar_ps(h, self.0[c]), d[c], sum);
+        for (g, d) in self.0.iter().zip(d).skip(1) {
+            sum = _mm512_fmadd_ps(_mm512_permutexvar_ps(h, *g), d, sum);
         }
         sum
     }
