@@ -14,7 +14,7 @@ import sys
 import moderngl
 import numpy as np
 
-from llvmpipe_common import SRGB_GLSL, context, mvp, texture, time_frames, uv_sphere
+from llvmpipe_common import context, mvp, shading_glsl, texture, time_frames, uv_sphere
 
 folder, out_png = sys.argv[1], sys.argv[2]
 frames = int(sys.argv[3]) if len(sys.argv) > 3 else 9
@@ -36,7 +36,7 @@ void main() { p = in_pos; t = in_uv; pu = in_pu; pv = in_pv; gl_Position = mvp *
 uniform sampler2D colour; uniform sampler2D height; uniform vec3 eye;
 in vec3 p; in vec2 t; in vec3 pu; in vec3 pv;
 out vec4 frag;
-""" + SRGB_GLSL + """
+""" + shading_glsl([((0.6, -0.55, -0.58), 2.6), ((-0.8, 0.15, -0.35), 0.8)], 0.04, 87) + """
 void main() {
     vec2 st = t * vec2(8.0, 4.0);
     vec2 texel = 1.0 / vec2(textureSize(height, 0));
@@ -49,17 +49,7 @@ void main() {
     vec3 d = (fu * cross(n, pv) - fv * cross(n, pu)) / length(n);
     vec3 nn = normalize(n + d);
     vec3 albedo = texture(colour, st).rgb;
-    vec3 V = normalize(eye - p);
-    vec3 dirs[2] = vec3[2](-normalize(vec3(0.6, -0.55, -0.58)), -normalize(vec3(-0.8, 0.15, -0.35)));
-    float k[2] = float[2](2.6, 0.8);
-    vec3 c = vec3(0.0);
-    for (int i = 0; i < 2; i++) {
-        float ndl = dot(nn, dirs[i]);
-        if (ndl > 0.0) {
-            float ndh = max(dot(nn, normalize(dirs[i] + V)), 0.0);
-            c += k[i] * (albedo * ndl + vec3(0.04 * pow(ndh, 87.0)));
-        }
-    }
+    vec3 c = shade(nn, albedo, normalize(eye - p));
     frag = vec4(srgb(c), 1.0);
 }
 """,

@@ -10,12 +10,32 @@ from PIL import Image
 
 W, H = 1920, 1080
 
-# sRGB's encoding, for fragment shaders that compute in linear light.
-SRGB_GLSL = """
-vec3 srgb(vec3 c) {
+
+
+def shading_glsl(lights, specular, shininess):
+    """GLSL of wrinkle's Blinn-Phong under directional lights (docs/scene-format.md, "Shading"): `vec3 shade(vec3 n,
+    vec3 albedo, vec3 v)` in linear light, for `lights` given as the scene gives them ((direction the light
+    travels, intensity) pairs), and `vec3 srgb(vec3 c)`, sRGB's encoding."""
+    to_light = ", ".join("-normalize(vec3({}, {}, {}))".format(*d) for d, _ in lights)
+    k = ", ".join(str(float(e)) for _, e in lights)
+    return f"""
+vec3 shade(vec3 n, vec3 albedo, vec3 v) {{
+    vec3 dirs[{len(lights)}] = vec3[{len(lights)}]({to_light});
+    float k[{len(lights)}] = float[{len(lights)}]({k});
+    vec3 c = vec3(0.0);
+    for (int i = 0; i < {len(lights)}; i++) {{
+        float ndl = dot(n, dirs[i]);
+        if (ndl > 0.0) {{
+            float ndh = max(dot(n, normalize(dirs[i] + v)), 0.0);
+            c += k[i] * (albedo * ndl + vec3({float(specular)} * pow(ndh, {float(shininess)})));
+        }}
+    }}
+    return c;
+}}
+vec3 srgb(vec3 c) {{
     c = clamp(c, 0.0, 1.0);
     return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));
-}
+}}
 """
 
 

@@ -11,7 +11,7 @@ import sys
 
 import numpy as np
 
-from llvmpipe_common import context, mvp, texture, time_frames, uv_sphere
+from llvmpipe_common import context, mvp, shading_glsl, texture, time_frames, uv_sphere
 
 folder = sys.argv[1]
 frames = int(sys.argv[2]) if len(sys.argv) > 2 else 9
@@ -36,6 +36,7 @@ void main() { p = in_pos; n = in_normal; t = in_uv; tg = in_tangent; gl_Position
 uniform sampler2D colour; uniform sampler2D normals; uniform vec3 eye;
 in vec3 p; in vec3 n; in vec2 t; in vec3 tg;
 out vec4 frag;
+""" + shading_glsl([((-0.5, -0.5, -1.0), 1.0), ((0.6, 0.3, -1.0), 0.4)], 0.3, 40) + """
 void main() {
     vec3 N = normalize(n);
     vec3 T = normalize(tg - N * dot(N, tg));
@@ -43,18 +44,7 @@ void main() {
     vec3 m = texture(normals, t).rgb * 2.0 - 1.0;
     vec3 nn = normalize(T * m.x + B * m.y + N * m.z);
     vec3 albedo = texture(colour, t).rgb;
-    vec3 V = normalize(eye - p);
-    vec3 dirs[2] = vec3[2](normalize(vec3(0.5, 0.5, 1.0)), normalize(vec3(-0.6, -0.3, 1.0)));
-    float k[2] = float[2](1.0, 0.4);
-    vec3 c = vec3(0.0);
-    for (int i = 0; i < 2; i++) {
-        float ndl = dot(nn, dirs[i]);
-        if (ndl > 0.0) {
-            float ndh = max(dot(nn, normalize(dirs[i] + V)), 0.0);
-            c += k[i] * (albedo * ndl + vec3(0.3 * pow(ndh, 40.0)));
-        }
-    }
-    frag = vec4(pow(c, vec3(1.0 / 2.2)), 1.0);
+    frag = vec4(srgb(shade(nn, albedo, normalize(eye - p))), 1.0);
 }
 """,
 )

@@ -153,6 +153,15 @@ def python_has(*modules):
     return subprocess.run([sys.executable, "-c", "import " + ", ".join(modules)], capture_output=True).returncode == 0
 
 
+def numpy_opencv(mode, src, dst, m):
+    """The NumPy + OpenCV peer of `wrinkle emboss` or `wrinkle normalmap`, where both are installed."""
+    if not python_has("numpy", "cv2"):
+        print("left out: NumPy + OpenCV (not installed)", file=sys.stderr)
+        return []
+    return [Tool("NumPy + OpenCV (bench/emboss_numpy.py)", [sys.executable, "bench/emboss_numpy.py", mode, src, dst],
+                 wall_ms(m))]
+
+
 def emboss_workload(args, work):
     src = height_image(args, work)
     size = "2048^2" if args.quick else "4096^2"
@@ -174,12 +183,7 @@ def emboss_workload(args, work):
                                                                   "depth=3"], wall_ms(m)))
     else:
         print("left out: GEGL (not installed)", file=sys.stderr)
-    if python_has("numpy", "cv2"):
-        tools.append(Tool("NumPy + OpenCV (bench/emboss_numpy.py)",
-                          [sys.executable, "bench/emboss_numpy.py", "emboss", src, out("np_emboss.png")], wall_ms(m)))
-    else:
-        print("left out: NumPy + OpenCV (not installed)", file=sys.stderr)
-    return tools
+    return tools + numpy_opencv("emboss", src, out("np_emboss.png"), m)
 
 
 def normalmap_workload(args, work):
@@ -188,13 +192,7 @@ def normalmap_workload(args, work):
     m = metric(f"normal map {size} grey PNG, whole command", "ms", False)
     out = lambda name: os.path.join(work, name)
     tools = [Tool("wrinkle", [WRINKLE, "normalmap", src, "-o", out("w_normal.png")], wall_ms(m))]
-    if python_has("numpy", "cv2"):
-        tools.append(Tool("NumPy + OpenCV (bench/emboss_numpy.py)",
-                          [sys.executable, "bench/emboss_numpy.py", "normalmap", src, out("np_normal.png")],
-                          wall_ms(m)))
-    else:
-        print("left out: NumPy + OpenCV (not installed)", file=sys.stderr)
-    return tools
+    return tools + numpy_opencv("normalmap", src, out("np_normal.png"), m)
 
 
 def psnr(a_png, b_png):
