@@ -153,46 +153,36 @@ def python_has(*modules):
     return subprocess.run([sys.executable, "-c", "import " + ", ".join(modules)], capture_output=True).returncode == 0
 
 
-def numpy_opencv(mode, src, dst, m):
-    """The NumPy + OpenCV peer of `wrinkle emboss` or `wrinkle normalmap`, where both are installed."""
-    if not python_has("numpy", "cv2"):
-        print("left out: NumPy + OpenCV (not installed)", file=sys.stderr)
-        return []
-    return [Tool("NumPy + OpenCV (bench/emboss_numpy.py)", [sys.executable, "bench/emboss_numpy.py", mode, src, dst],
-                 wall_ms(m))]
-
-
-def emboss_workload(args, work):
+def height_map_workload(command, label, args, work):
+    """`wrinkle COMMAND` (emboss or normalmap) on the height map, whole command, beside the peers that do it:
+    NumPy + OpenCV for both, ImageMagick's -shade and GEGL's emboss for emboss."""
     src = height_image(args, work)
     size = "2048^2" if args.quick else "4096^2"
-    m = metric(f"emboss {size} grey PNG, whole command", "ms", False)
+    m = metric(f"{label} {size} grey PNG, whole command", "ms", False)
     out = lambda name: os.path.join(work, name)
-    tools = [Tool("wrinkle", [WRINKLE, "emboss", src, "-o", out("w_emboss.png")], wall_ms(m))]
+    tools = [Tool("wrinkle", [WRINKLE, command, src, "-o", out(f"w_{command}.png")], wall_ms(m))]
     im = shutil.which("convert-im6.q16") or shutil.which("magick")
-    if im:
+    if command == "emboss" and im:
         tools.append(Tool("ImageMagick -shade 135x45, PNG level 1",
                           [im, src, "-shade", "135x45", "-define", "png:compression-level=1", out("im_shade.png")],
                           wall_ms(m)))
-    else:
+    elif command == "emboss":
         print("left out: ImageMagick (not installed)", file=sys.stderr)
-    if shutil.which("gegl"):
+    if command == "emboss" and shutil.which("gegl"):
         # GEGL's own emboss (GIMP's filter): depth 3 is the nearest to the others' bevel; it pads its output by
         # three pixels and writes 16-bit grey with alpha.
         tools.append(Tool("GEGL gegl:emboss (the gegl command)", ["gegl", src, "-o", out("gegl_emboss.png"), "--",
                                                                   "gegl:emboss", "azimuth=135", "elevation=45",
                                                                   "depth=3"], wall_ms(m)))
-    else:
+    elif command == "emboss":
         print("left out: GEGL (not installed)", file=sys.stderr)
-    return tools + numpy_opencv("emboss", src, out("np_emboss.png"), m)
-
-
-def normalmap_workload(args, work):
-    src = height_image(args, work)
-    size = "2048^2" if args.quick else "4096^2"
-    m = metric(f"normal map {size} grey PNG, whole command", "ms", False)
-    out = lambda name: os.path.join(work, name)
-    tools = [Tool("wrinkle", [WRINKLE, "normalmap", src, "-o", out("w_normal.png")], wall_ms(m))]
-    return tools + numpy_opencv("normalmap", src, out("np_normal.png"), m)
+    if python_has("numpy", "cv2"):
+        tools.append(Tool("NumPy + OpenCV (bench/emboss_numpy.py)",
+                          [sys.executable, "bench/emboss_numpy.py", command, src, out(f"np_{command}.png")],
+                          wall_ms(m)))
+    else:
+        print("left out: NumPy + OpenCV (not installed)", file=sys.stderr)
+    return tools
 
 
 def psnr(a_png, b_png):
@@ -270,8 +260,8 @@ WORKLOADS = {
     "canonical": canonical_workload,
     "texture": texture_workload,
     "noise": lambda a, w: noise_workload(a),
-    "emboss": emboss_workload,
-    "normalmap": normalmap_workload,
+    "emboss": lambda a, w: height_map_workload("emboss", "emboss", a, w),
+    "normalmap": lambda a, w: height_map_workload("normalmap", "normal map", a, w),
     "mesh": mesh_workload,
 }
 
