@@ -98,7 +98,7 @@ impl I {
         unsafe { I(_mm256_mullo_epi32(self.0, o.0)) }
     }
     /// The hashed variant's gradient index of lattice points whose primed indices XOR to `self` (the seed
-    /// included): the top four bits of the mixed product, as perlin.rs `mixed_hash`.
+    /// included): the top four bits of the mixed product, as perlin.rs `lattice_hash`.
     #[inline(always)]
     fn mixed_hash(self) -> I {
         unsafe { I(_mm256_srli_epi32::<28>(self.mul(I::splat(HASH_MIX)).0)) }
