@@ -12,10 +12,19 @@ W, H = 1920, 1080
 
 
 
+# sRGB's encoding, for fragment shaders that compute in linear light.
+SRGB_GLSL = """
+vec3 srgb(vec3 c) {
+    c = clamp(c, 0.0, 1.0);
+    return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));
+}
+"""
+
+
 def shading_glsl(lights, specular, shininess):
     """GLSL of wrinkle's Blinn-Phong under directional lights (docs/scene-format.md, "Shading"): `vec3 shade(vec3 n,
     vec3 albedo, vec3 v)` in linear light, for `lights` given as the scene gives them ((direction the light
-    travels, intensity) pairs), and `vec3 srgb(vec3 c)`, sRGB's encoding."""
+    travels, intensity) pairs), and SRGB_GLSL."""
     to_light = ", ".join("-normalize(vec3({}, {}, {}))".format(*d) for d, _ in lights)
     k = ", ".join(str(float(e)) for _, e in lights)
     return f"""
@@ -32,11 +41,7 @@ vec3 shade(vec3 n, vec3 albedo, vec3 v) {{
     }}
     return c;
 }}
-vec3 srgb(vec3 c) {{
-    c = clamp(c, 0.0, 1.0);
-    return mix(c * 12.92, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));
-}}
-"""
+""" + SRGB_GLSL
 
 
 def uv_sphere(nu, nv):
@@ -69,15 +74,27 @@ def texture(ctx, path, srgb):
     return tex
 
 
-def mvp():
-    """Projection times view of the benchmark camera: eye (0, 0, 4) looking at the origin, fov_y 40."""
+def view_projection(eye=(0.0, 0.0, 4.0)):
+    """Projection times view (4x4, row-major) of the benchmark camera: `eye` looking at the origin, +Y up,
+    fov_y 40, 1920x1080."""
     f = 1.0 / np.tan(np.radians(40.0) / 2)
-    near, far = 0.1, 10.0
+    near, far = 0.1, 100.0
     proj = np.array([[f * H / W, 0, 0, 0], [0, f, 0, 0],
                      [0, 0, (far + near) / (near - far), 2 * far * near / (near - far)], [0, 0, -1, 0]])
+    eye = np.array(eye, float)
+    back = eye / np.linalg.norm(eye)
+    right = np.cross([0.0, 1.0, 0.0], back)
+    right /= np.linalg.norm(right)
+    up = np.cross(back, right)
     view = np.eye(4)
-    view[2, 3] = -4.0
-    return (proj @ view).T.astype("f4").tobytes()
+    view[:3, :3] = [right, up, back]
+    view[:3, 3] = -view[:3, :3] @ eye
+    return proj @ view
+
+
+def mvp(eye=(0.0, 0.0, 4.0)):
+    """`view_projection` as the bytes of a GLSL mat4 uniform (column-major)."""
+    return view_projection(eye).T.astype("f4").tobytes()
 
 
 def time_frames(ctx, vao, frames, out_png=None, supersample=1):

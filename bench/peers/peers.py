@@ -4,7 +4,7 @@ by round, after one warm-up run each; then one line per workload and tool with t
 rounds, wrinkle's advantage (peer time / wrinkle time, or wrinkle rate / peer rate) and the CPU model.
 
 Run through bench/peers/run, which installs the peers and builds wrinkle and FastNoise2 first.
-usage: peers.py --work DIR [--quick] [--rounds N] [--only canonical,texture,noise,emboss,normalmap,mesh]
+usage: peers.py --work DIR [--quick] [--rounds N] [--only canonical,environment,texture,noise,emboss,normalmap,mesh]
 """
 import argparse
 import os
@@ -228,6 +228,29 @@ def canonical_workload(args, work):
     return tools
 
 
+def scene_workload(label, scene, peer_script, args, work):
+    """One benchmark scene of bench/ at 1920x1080, 1 spp: wrinkle's frame beside its llvmpipe peer's, and their
+    pictures compared."""
+    frames = "3" if args.quick else "9"
+    m = metric(f"{label} 1920x1080 1 spp, frame", "ms", False)
+    scene = os.path.join(ROOT, scene)
+    name = os.path.splitext(os.path.basename(peer_script))[0]
+    ours = os.path.join(work, f"wrinkle_{name}.png")
+    subprocess.run([WRINKLE, "render", scene, "-o", ours, "--width", "1920", "--height", "1080"], check=True,
+                   capture_output=True)
+    tools = [Tool("wrinkle (2 threads)", [WRINKLE, "bench", scene, "--width", "1920", "--height", "1080", "--frames",
+                                          frames], fields({m: "median_ms"}), picture=ours)]
+    if python_has("moderngl", "numpy", "PIL", "cv2"):
+        theirs = os.path.join(work, f"{name}.png")
+        # The peers read their inputs relative to bench/.
+        tools.append(Tool("Mesa llvmpipe", ["sh", "-c", 'cd bench && exec "$0" "$@"', sys.executable,
+                                            os.path.basename(peer_script), theirs, frames],
+                          fields({m: "median_ms"}), picture=theirs))
+    else:
+        print("left out: llvmpipe (moderngl or OpenCV not installed)", file=sys.stderr)
+    return tools
+
+
 def mesh_workload(args, work):
     folder = os.path.join(work, "mesh")
     os.makedirs(folder, exist_ok=True)
@@ -258,6 +281,8 @@ def mesh_workload(args, work):
 
 WORKLOADS = {
     "canonical": canonical_workload,
+    "environment": lambda a, w: scene_workload("chrome sphere mirroring an HDR environment, as background too",
+                                               "bench/environment/scene.toml", "bench/llvmpipe_environment.py", a, w),
     "texture": texture_workload,
     "noise": lambda a, w: noise_workload(a),
     "emboss": lambda a, w: height_map_workload("emboss", "emboss", a, w),
