@@ -4,7 +4,7 @@ by round, after one warm-up run each; then one line per workload and tool with t
 rounds, wrinkle's advantage (peer time / wrinkle time, or wrinkle rate / peer rate) and the CPU model.
 
 Run through bench/peers/run, which installs the peers and builds wrinkle and FastNoise2 first.
-usage: peers.py --work DIR [--quick] [--rounds N] [--only canonical,environment,texture,noise,emboss,normalmap,mesh]
+usage: peers.py --work DIR [--quick] [--rounds N] [--only canonical,environment,shadows,texture,noise,emboss,normalmap,mesh]
 """
 import argparse
 import os
@@ -283,6 +283,8 @@ WORKLOADS = {
     "canonical": canonical_workload,
     "environment": lambda a, w: scene_workload("chrome sphere mirroring an HDR environment, as background too",
                                                "bench/environment/scene.toml", "bench/llvmpipe_environment.py", a, w),
+    "shadows": lambda a, w: scene_workload("two spheres on a floor, a sun's 1024^2 shadow map", "bench/shadows/scene.toml",
+                                           "bench/llvmpipe_shadows.py", a, w),
     "texture": texture_workload,
     "noise": lambda a, w: noise_workload(a),
     "emboss": lambda a, w: height_map_workload("emboss", "emboss", a, w),
