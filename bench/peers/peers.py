@@ -3,7 +3,8 @@
 by round, after one warm-up run each; then one line per workload and tool with the median and best of the
 rounds, wrinkle's advantage (peer time / wrinkle time, or wrinkle rate / peer rate) and the CPU model.
 
-Run through bench/peers/run, which installs the peers and builds wrinkle and FastNoise2 first.
+Run through bench/peers/run, which installs the peers and builds wrinkle, FastNoise2 and the OpenImageIO
+benchmark first. A workload whose tool fails is left out with one line saying why; the others still run.
 usage: peers.py --work DIR [--quick] [--rounds N] [--only canonical,environment,shadows,texture,noise,emboss,normalmap,mesh]
 """
 import argparse
@@ -310,14 +311,20 @@ def main():
           f"{rounds} rounds, alternating, after a warm-up", flush=True)
     rows = []
     for name in chosen:
-        tools = WORKLOADS[name](args, args.work)
-        for tool in tools:
-            tool.measure()  # warm-up: caches, page cache, lazy loading
-        for r in range(rounds):
+        try:
+            tools = WORKLOADS[name](args, args.work)
             for tool in tools:
-                for m, v in tool.measure().items():
-                    tool.samples.setdefault(m, []).append(v)
-            print(f"{name}: round {r + 1}/{rounds} done", file=sys.stderr, flush=True)
+                tool.measure()  # warm-up: caches, page cache, lazy loading
+            for r in range(rounds):
+                for tool in tools:
+                    for m, v in tool.measure().items():
+                        tool.samples.setdefault(m, []).append(v)
+                print(f"{name}: round {r + 1}/{rounds} done", file=sys.stderr, flush=True)
+        except (RuntimeError, subprocess.CalledProcessError, KeyError, StopIteration, ValueError) as e:
+            # One line, and the other workloads still run.
+            print(f"bench/peers: {name} left out: {str(e).splitlines()[0] if str(e) else type(e).__name__}",
+                  file=sys.stderr)
+            continue
         for tool in tools:
             # The wrinkle run of the same metric (every workload lists wrinkle first for each of its metrics).
             ours = next(t for t in tools if t.name.startswith("wrinkle") and set(t.samples) & set(tool.samples))
