@@ -77,7 +77,7 @@ pub fn run(args: &BenchNoiseArgs) -> Result<()> {
         let (noise_ms, noise_min) = time(args.rounds, || chunks(&mut out, &|x, y, z, o| noise.noise3_many(x, y, z, o)));
         checksum += out.iter().map(|&v| v as f64).sum::<f64>();
         let (fbm_ms, fbm_min) = time(args.rounds, || chunks(&mut out, &|x, y, z, o| fbm.eval3_many(x, y, z, o)));
-        // The texture tool's workload: a 1024x1024 fBm image (2D noise, all octaves resolved, eight pixels a time).
+        // The texture tool's workload: a 1024x1024 fBm image (2D noise, all octaves resolved, on lanes).
         let mut params = Params::new(Kind::Fbm);
         params.octaves.count = args.octaves;
         params.variant = variant;

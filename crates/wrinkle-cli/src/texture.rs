@@ -55,10 +55,10 @@ pub struct TextureArgs {
     /// Lattice cells (pattern periods) across the image
     #[arg(long, allow_negative_numbers = true, default_value_t = 4.0)]
     pub scale: f32,
-    /// Noise variant: hashed (the 2002 noise with a hashed lattice, fast), improved (2002, Perlin's
-    /// permutation table and reference values) or classic (1985)
-    #[arg(long, default_value = "hashed")]
-    pub variant: String,
+    /// Noise variant: hashed (the default: the 2002 noise with a hashed lattice, fast), improved (2002,
+    /// Perlin's permutation table and reference values) or classic (1985)
+    #[arg(long)]
+    pub variant: Option<String>,
     /// Octaves of the noise sums
     #[arg(long, default_value_t = Octaves::default().count)]
     pub octaves: u32,
@@ -124,9 +124,11 @@ impl TextureArgs {
         let mut p = Params::new(kind);
         p.scale = self.scale;
         p.seed = self.seed;
-        p.variant = Variant::from_name(&self.variant).ok_or_else(|| {
-            Error::Invalid(format!("--variant: expected hashed, improved or classic, got \"{}\"", self.variant))
-        })?;
+        if let Some(name) = &self.variant {
+            p.variant = Variant::from_name(name).ok_or_else(|| {
+                Error::Invalid(format!("--variant: expected {}, got \"{name}\"", Variant::name_list("")))
+            })?;
+        }
         p.octaves = Octaves { count: self.octaves, lacunarity: self.lacunarity, gain: self.gain };
         p.strength = self.strength.unwrap_or(p.strength);
         p.rings = self.rings.unwrap_or(p.rings);

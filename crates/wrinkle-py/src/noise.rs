@@ -26,9 +26,12 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
 /// Points per parallel task: large enough that the task costs little beside it.
 const CHUNK: usize = 4096;
 
-fn variant(name: &str) -> PyResult<Variant> {
-    Variant::from_name(name)
-        .ok_or_else(|| invalid(format!("variant: expected \"hashed\", \"improved\" or \"classic\", got \"{name}\"")))
+/// The variant called `name`; the core's default where none is given.
+fn variant(name: Option<&str>) -> PyResult<Variant> {
+    name.map_or(Ok(Variant::default()), |name| {
+        Variant::from_name(name)
+            .ok_or_else(|| invalid(format!("variant: expected {}, got \"{name}\"", Variant::name_list("\""))))
+    })
 }
 
 /// The points (N, 2) or (N, 3) and their dimension.
@@ -85,7 +88,7 @@ fn perlin<'py>(
     py: Python<'py>,
     points: PyReadonlyArrayDyn<'py, f32>,
     seed: u64,
-    variant: &str,
+    variant: Option<&str>,
 ) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
     let (pts, dims) = self::points(&points)?;
     let noise = Perlin::new(self::variant(variant)?, seed);
@@ -111,7 +114,7 @@ fn fractal<'py>(
     lacunarity: f32,
     gain: f32,
     seed: u64,
-    variant: &str,
+    variant: Option<&str>,
 ) -> PyResult<Bound<'py, PyArrayDyn<f32>>> {
     let (pts, dims) = self::points(&points)?;
     let sum = match sum {
@@ -129,7 +132,7 @@ fn fractal<'py>(
         if dims == 3 {
             fractal.eval3_many(&x, &y, &z, o);
         } else {
-            o.iter_mut().enumerate().for_each(|(i, v)| *v = fractal.eval([x[i], y[i], 0.0], 2, 0.0));
+            fractal.eval2_many(&x, &y, o);
         }
     })?;
     Ok(output(py, &[out.len()], out))
@@ -147,7 +150,7 @@ fn pattern_params(kind: &str, params: Option<&Bound<'_, PyDict>>) -> PyResult<Pa
         kind,
         scale: o.take("scale", d.scale)?,
         seed: o.take("seed", d.seed)?,
-        variant: variant(&o.take("variant", "hashed".to_string())?)?,
+        variant: variant(o.take::<Option<String>>("variant", None)?.as_deref())?,
         octaves: Octaves {
             count: o.take("octaves", d.octaves.count)?,
             lacunarity: o.take("lacunarity", d.octaves.lacunarity)?,

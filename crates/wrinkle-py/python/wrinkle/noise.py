@@ -9,7 +9,7 @@ triples from t = 0 to t = 1)."""
 
 from __future__ import annotations
 
-from typing import List, Tuple
+from typing import List, Optional, Tuple
 
 import numpy as np
 
@@ -22,21 +22,27 @@ __all__ = [
 ]
 
 
-def perlin(points, seed: int = 0, variant: str = "hashed") -> np.ndarray:
+def _name(option: Optional[str]) -> Optional[str]:
+    """An option's name as the extension takes it: None leaves the core's default."""
+    return None if option is None else str(option)
+
+
+def perlin(points, seed: int = 0, variant: Optional[str] = None) -> np.ndarray:
     """Perlin's gradient noise (about [-1, 1]) at every point, (N,) float32. Seed 0 with "improved" is
-    Perlin's published 2002 function; the default "hashed" is the same noise on a hashed lattice, faster."""
-    return _wrinkle.perlin(_points(points), int(seed), str(variant))
+    Perlin's published 2002 function; the default (None: "hashed") is the same noise on a hashed lattice,
+    faster."""
+    return _wrinkle.perlin(_points(points), int(seed), _name(variant))
 
 
-def fbm(points, octaves: int = 6, lacunarity: float = 2.0, gain: float = 0.5, seed: int = 0, variant: str = "hashed") -> np.ndarray:
+def fbm(points, octaves: int = 6, lacunarity: float = 2.0, gain: float = 0.5, seed: int = 0, variant: Optional[str] = None) -> np.ndarray:
     """Fractional Brownian motion: the sum of noise(f p) / f over `octaves` (frequency ratio `lacunarity`,
     amplitude ratio `gain`), (N,) float32."""
-    return _wrinkle.fractal(_points(points), "fbm", int(octaves), float(lacunarity), float(gain), int(seed), str(variant))
+    return _wrinkle.fractal(_points(points), "fbm", int(octaves), float(lacunarity), float(gain), int(seed), _name(variant))
 
 
-def turbulence(points, octaves: int = 6, lacunarity: float = 2.0, gain: float = 0.5, seed: int = 0, variant: str = "hashed") -> np.ndarray:
+def turbulence(points, octaves: int = 6, lacunarity: float = 2.0, gain: float = 0.5, seed: int = 0, variant: Optional[str] = None) -> np.ndarray:
     """Perlin's turbulence: the sum of |noise(f p)| / f over octaves, (N,) float32."""
-    return _wrinkle.fractal(_points(points), "turbulence", int(octaves), float(lacunarity), float(gain), int(seed), str(variant))
+    return _wrinkle.fractal(_points(points), "turbulence", int(octaves), float(lacunarity), float(gain), int(seed), _name(variant))
 
 
 def pattern(kind: str, points, width: float = 0.0, **params) -> Tuple[np.ndarray, np.ndarray]:

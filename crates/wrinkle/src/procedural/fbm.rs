@@ -229,18 +229,14 @@ impl Fractal {
             .collect()
     }
 
-    /// The full sum at every whole group of sixteen points (2D or 3D: `p` holds a slice per axis) where
-    /// `wide_octaves` runs; returns how many points it wrote.
-    fn wide_eval(&self, p: [&[f32]; 3], dims: usize, out: &mut [f32]) -> usize {
+    /// The full sum at every whole group of sixteen points of D dimensions (`p` holds a slice per axis)
+    /// where `wide_octaves` runs; returns how many points it wrote.
+    fn wide_eval<const D: usize>(&self, p: [&[f32]; D], out: &mut [f32]) -> usize {
         #[cfg(target_arch = "x86_64")]
         if let Some(o) = self.wide_octaves() {
-            let turbulence = self.sum == Sum::Turbulence;
-            return match dims {
-                2 => super::simd512::sum2(&o, turbulence, p[0], p[1], out),
-                _ => super::simd512::sum3(&o, turbulence, p[0], p[1], p[2], out),
-            };
+            return super::simd512::sum(&o, self.sum == Sum::Turbulence, p, out);
         }
-        let _ = (p, dims, out);
+        let _ = (p, out);
         0
     }
 
@@ -248,7 +244,7 @@ impl Fractal {
     pub fn eval2_many(&self, x: &[f32], y: &[f32], out: &mut [f32]) {
         let n = out.len();
         assert!(x.len() == n && y.len() == n, "coordinate slices must match the output");
-        let wide = self.wide_eval([x, y, y], 2, out);
+        let wide = self.wide_eval([x, y], out);
         let full = wide + (n - wide) / LANES * LANES;
         for i in (wide..full).step_by(LANES) {
             let lanes = |s: &[f32]| -> [f32; LANES] { s[i..i + LANES].try_into().expect("one lane group") };
@@ -263,7 +259,7 @@ impl Fractal {
     pub fn eval3_many(&self, x: &[f32], y: &[f32], z: &[f32], out: &mut [f32]) {
         let n = out.len();
         assert!(x.len() == n && y.len() == n && z.len() == n, "coordinate slices must match the output");
-        let wide = self.wide_eval([x, y, z], 3, out);
+        let wide = self.wide_eval([x, y, z], out);
         let full = wide + (n - wide) / LANES * LANES;
         for i in (wide..full).step_by(LANES) {
             let lanes = |s: &[f32]| -> [f32; LANES] { s[i..i + LANES].try_into().expect("one lane group") };

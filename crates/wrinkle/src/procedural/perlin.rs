@@ -61,6 +61,12 @@ impl Variant {
     pub fn from_name(name: &str) -> Option<Variant> {
         Variant::NAMES.iter().find(|(n, _)| *n == name).map(|&(_, v)| v)
     }
+
+    /// The names, quoted as `quote` and listed for an error message: "a, b or c".
+    pub fn name_list(quote: &str) -> String {
+        let names: Vec<String> = Variant::NAMES.iter().map(|(n, _)| format!("{quote}{n}{quote}")).collect();
+        format!("{} or {}", names[..names.len() - 1].join(", "), names[names.len() - 1])
+    }
 }
 
 /// The odd constants of the multiplicative lattice hash (FastNoise2's primes and final multiplier).
@@ -164,12 +170,19 @@ impl Perlin {
         }
     }
 
+    /// Whether the lattice goes unwrapped: the hashed variant without a period (the table variants always
+    /// wrap, by 256 without a period).
+    #[inline(always)]
+    fn unwrapped(&self) -> bool {
+        self.variant == Variant::Hashed && !self.periodic
+    }
+
     /// The two lattice indices around `x` along `axis` (wrapped by the period where one applies) and the
-    /// offset of `x` from the first. The table variants always wrap (by 256 without a period).
+    /// offset of `x` from the first.
     #[inline(always)]
     fn cell(&self, x: f32, axis: usize) -> (i32, i32, f32) {
         let fl = x.floor();
-        if self.variant == Variant::Hashed && !self.periodic {
+        if self.unwrapped() {
             let i0 = fl.clamp(-LATTICE_LIMIT, LATTICE_LIMIT) as i32;
             return (i0, i0 + 1, x - fl);
         }
@@ -420,7 +433,7 @@ impl Perlin {
         let n = out.len();
         assert!(x.len() == n && y.len() == n && z.len() == n, "coordinate slices must match the output");
         #[cfg(target_arch = "x86_64")]
-        let wide = self.wide_octave(1.0, [0.0; 3], 1.0).map_or(0, |o| super::simd512::sum3(&[o], false, x, y, z, out));
+        let wide = self.wide_octave(1.0, [0.0; 3], 1.0).map_or(0, |o| super::simd512::sum(&[o], false, [x, y, z], out));
         #[cfg(not(target_arch = "x86_64"))]
         let wide = 0;
         let full = wide + (n - wide) / LANES * LANES;
@@ -515,7 +528,7 @@ impl Perlin {
 
     fn cell_f64(&self, x: f64, axis: usize) -> (i32, i32, f64) {
         let fl = x.floor();
-        if self.variant == Variant::Hashed && !self.periodic {
+        if self.unwrapped() {
             let i0 = fl.clamp(-LATTICE_LIMIT as f64, LATTICE_LIMIT as f64) as i32;
             return (i0, i0 + 1, x - fl);
         }

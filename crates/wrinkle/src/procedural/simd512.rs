@@ -11,10 +11,10 @@ use super::perlin::{improved_gradient2, improved_gradient3, HASH_MIX, HASH_PRIME
 use std::arch::x86_64::*;
 
 /// Points per vector.
-pub(super) const WIDTH: usize = 16;
+const WIDTH: usize = 16;
 
 /// One octave of a sum: its noise's lattice, where its points come from, and its weight. One exists only
-/// where this CPU has AVX-512F, which makes `sum3` safe.
+/// where this CPU has AVX-512F, which makes `sum` safe.
 pub(super) struct Octave {
     seed: i32,
     /// Lattice period per axis, when the noise tiles.
@@ -38,23 +38,15 @@ impl Octave {
     }
 }
 
-/// sum over `octaves` of amplitude * noise (or |noise| when `turbulence`) at every whole group of sixteen 3D
-/// points; returns how many points it wrote (the rest are the caller's).
-pub(super) fn sum3(octaves: &[Octave], turbulence: bool, x: &[f32], y: &[f32], z: &[f32], out: &mut [f32]) -> usize {
+/// sum over `octaves` of amplitude * noise (or |noise| when `turbulence`) at every whole group of sixteen
+/// points of D dimensions (2 or 3; `p` holds a slice per axis); returns how many points it wrote (the rest
+/// are the caller's).
+pub(super) fn sum<const D: usize>(octaves: &[Octave], turbulence: bool, p: [&[f32]; D], out: &mut [f32]) -> usize {
     if octaves.is_empty() {
         return 0;
     }
     // SAFETY: an `Octave` exists only where the CPU has AVX-512F.
-    unsafe { hashed_sum::<3>(octaves, turbulence, [x, y, z], out) }
-}
-
-/// The same over 2D points.
-pub(super) fn sum2(octaves: &[Octave], turbulence: bool, x: &[f32], y: &[f32], out: &mut [f32]) -> usize {
-    if octaves.is_empty() {
-        return 0;
-    }
-    // SAFETY: as `sum3`.
-    unsafe { hashed_sum::<2>(octaves, turbulence, [x, y], out) }
+    unsafe { hashed_sum::<D>(octaves, turbulence, p, out) }
 }
 
 #[target_feature(enable = "avx512f")]
