@@ -197,6 +197,15 @@ def psnr(a_png, b_png):
     return 10 * np.log10(255 ** 2 / max(mse, 1e-12))
 
 
+def wrinkle_frame(m, scene, frames, picture, spp=1):
+    """wrinkle's frame of `scene` at 1920x1080 and `spp` samples: timed in-process by `wrinkle bench`, and
+    rendered once now to `picture`, which the peers' frames are compared with."""
+    size = ["--width", "1920", "--height", "1080", "--spp", str(spp)]
+    subprocess.run([WRINKLE, "render", scene, "-o", picture] + size, check=True, capture_output=True)
+    return Tool("wrinkle (2 threads)", [WRINKLE, "bench", scene, "--frames", frames] + size, fields({m: "median_ms"}),
+                picture=picture)
+
+
 def canonical_workload(args, work):
     """The canonical scene at 1 spp and at 16 (wrinkle's 16 samples, llvmpipe's 4x4 supersampling, Mitsuba's
     16 samples per pixel)."""
@@ -205,12 +214,7 @@ def canonical_workload(args, work):
     tools = []
     for spp, ss, mitsuba in [(1, 1, ["llvm_ad_rgb", "scalar_rgb"]), (16, 4, ["llvm_ad_rgb"])]:
         m = metric(f"canonical bump-mapped sphere 1920x1080 {spp} spp, frame", "ms", False)
-        ours = os.path.join(work, f"wrinkle_canonical_{spp}.png")
-        subprocess.run([WRINKLE, "render", scene, "-o", ours, "--width", "1920", "--height", "1080", "--spp", str(spp)],
-                       check=True, capture_output=True)
-        tools.append(Tool("wrinkle (2 threads)", [WRINKLE, "bench", scene, "--width", "1920", "--height", "1080",
-                                                  "--frames", frames, "--spp", str(spp)], fields({m: "median_ms"}),
-                          picture=ours))
+        tools.append(wrinkle_frame(m, scene, frames, os.path.join(work, f"wrinkle_canonical_{spp}.png"), spp))
         if python_has("moderngl", "numpy", "PIL"):
             theirs = os.path.join(work, f"llvmpipe_canonical_{spp}.png")
             name = "Mesa llvmpipe (GLSL Blinn bump, 512x256 sphere mesh" + (f", {ss}x{ss} supersampled)" if ss > 1 else ")")
@@ -236,11 +240,7 @@ def scene_workload(label, scene, peer_script, args, work):
     m = metric(f"{label} 1920x1080 1 spp, frame", "ms", False)
     scene = os.path.join(ROOT, scene)
     name = os.path.splitext(os.path.basename(peer_script))[0]
-    ours = os.path.join(work, f"wrinkle_{name}.png")
-    subprocess.run([WRINKLE, "render", scene, "-o", ours, "--width", "1920", "--height", "1080"], check=True,
-                   capture_output=True)
-    tools = [Tool("wrinkle (2 threads)", [WRINKLE, "bench", scene, "--width", "1920", "--height", "1080", "--frames",
-                                          frames], fields({m: "median_ms"}), picture=ours)]
+    tools = [wrinkle_frame(m, scene, frames, os.path.join(work, f"wrinkle_{name}.png"))]
     if python_has("moderngl", "numpy", "PIL", "cv2"):
         theirs = os.path.join(work, f"{name}.png")
         # The peers read their inputs relative to bench/.
@@ -265,11 +265,7 @@ def mesh_workload(args, work):
     frames = "3" if args.quick else "9"
     m = metric("1M-triangle normal-mapped mesh 1920x1080 1 spp, frame", "ms", False)
     scene = os.path.join(folder, "mesh.toml")
-    ours = os.path.join(work, "wrinkle_mesh.png")
-    subprocess.run([WRINKLE, "render", scene, "-o", ours, "--width", "1920", "--height", "1080"], check=True,
-                   capture_output=True)
-    tools = [Tool("wrinkle (2 threads)", [WRINKLE, "bench", scene, "--width", "1920", "--height", "1080", "--frames",
-                                          frames], fields({m: "median_ms"}), picture=ours)]
+    tools = [wrinkle_frame(m, scene, frames, os.path.join(work, "wrinkle_mesh.png"))]
     if python_has("moderngl", "numpy", "PIL"):
         theirs = os.path.join(work, "llvmpipe_mesh.png")
         tools.append(Tool("Mesa llvmpipe (GLSL normal mapping)",
