@@ -8,6 +8,7 @@ use super::SUBPIXEL;
 use crate::lanes::{F8, LANES};
 use glam::{Affine3A, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
+use std::mem::MaybeUninit;
 
 /// a(x, y) = a0 + ax (x - x0) + ay (y - y0): an attribute that is affine in screen space.
 #[derive(Clone, Copy, Debug, Default)]
@@ -57,10 +58,9 @@ impl Plane8 {
 /// A triangle ready to rasterize and to interpolate.
 #[derive(Clone, Debug)]
 pub struct ScreenTriangle {
-    /// Edge functions E = A x + B y + C in fixed point, positive inside; `bias` is 0 on edges that own their
-    /// samples and -1 on the others (the fill rule).
+    /// Edge functions E = A x + B y + C in fixed point, E >= 0 inside, with the fill rule folded into C (one
+    /// less on the edges that do not own the samples exactly on them).
     pub edges: [[i64; 3]; 3],
-    pub bias: [i64; 3],
     /// Bounding box in whole pixels, inclusive, clipped to the screen.
     pub bbox: [i32; 4],
     /// Screen position of vertex 0, the origin of the planes.
@@ -149,13 +149,12 @@ pub struct TriangleSetup<'a> {
     /// Pixels beyond its own that a pixel's samples reach (a pixel filter wider than the pixel): each
     /// triangle's box grows by as many, so the pixels whose samples may fall on it are all in it.
     reach: i64,
-    pub triangles: Vec<ScreenTriangle>,
 }
 
 impl<'a> TriangleSetup<'a> {
     pub fn new(camera: &'a Camera) -> Self {
         let planes = clip_planes(camera);
-        TriangleSetup { camera, planes, polygon: Vec::with_capacity(9), reach: 0, triangles: Vec::new() }
+        TriangleSetup { camera, planes, polygon: Vec::with_capacity(9), reach: 0 }
     }
 
     /// The setup for samples that reach `pixels` beyond their own pixel.
@@ -192,10 +191,12 @@ impl<'a> TriangleSetup<'a> {
         ProjectedVertex { clip, fixed, q, inside }
     }
 
-    /// Adds the triangles of a projected mesh, all of surface `surface`, the first of them numbered `first`
+    /// The triangles of a projected mesh set up, all of surface `surface`, the first of them numbered `first`
     /// within its object. `cull` says which triangles to drop by the way they face; `outline`, where given,
-    /// which lie along the surface's outline (one flag per triangle).
-    pub fn add_triangles(
+    /// which lie along the surface's outline (one flag per triangle). The frame counts and writes them in
+    /// place instead (`count_triangles`, `write_triangles`); the tests take them whole.
+    #[cfg(any(test, feature = "internals"))]
+    pub fn triangles_of(
         &mut self,
         vertices: &[ProjectedVertex],
         triangles: &[[u32; 3]],
@@ -203,81 +204,145 @@ impl<'a> TriangleSetup<'a> {
         first: u32,
         cull: Cull,
         outline: Option<&[Outline]>,
+    ) -> Vec<ScreenTriangle> {
+        let mut out = Vec::with_capacity(triangles.len());
+        self.each_kept(vertices, triangles, surface, first, cull, outline, |setup, tri, kept| {
+            out.push(setup.finish(tri, kept));
+        });
+        out
+    }
+
+    /// How many triangles of a projected mesh the setup keeps (clipped pieces counted one by one).
+    pub fn count_triangles(
+        &mut self,
+        vertices: &[ProjectedVertex],
+        triangles: &[[u32; 3]],
+        cull: Cull,
+        outline: Option<&[Outline]>,
+    ) -> usize {
+        let mut count = 0;
+        self.each_kept(vertices, triangles, 0, 0, cull, outline, |_, _, _| count += 1);
+        count
+    }
+
+    /// Writes into `out` the triangles of a projected mesh set up (all of surface `surface`, the first of
+    /// them numbered `first` within its object; `cull` says which to drop by the way they face, `outline`
+    /// which lie along the surface's outline), which `count_triangles` counted to exactly `out.len()`;
+    /// panics where they are not as many.
+    #[allow(clippy::too_many_arguments)]
+    pub fn write_triangles(
+        &mut self,
+        vertices: &[ProjectedVertex],
+        triangles: &[[u32; 3]],
+        surface: u32,
+        first: u32,
+        cull: Cull,
+        outline: Option<&[Outline]>,
+        out: &mut [MaybeUninit<ScreenTriangle>],
     ) {
-        self.triangles.reserve(triangles.len());
+        let mut n = 0;
+        self.each_kept(vertices, triangles, surface, first, cull, outline, |setup, tri, kept| {
+            out[n].write(setup.finish(tri, kept));
+            n += 1;
+        });
+        assert_eq!(n, out.len(), "triangle setup counted otherwise than it wrote");
+    }
+
+    /// Calls `visit` with each triangle the setup keeps (each piece of one that is clipped) and what it
+    /// keeps of it.
+    #[allow(clippy::too_many_arguments)]
+    fn each_kept(
+        &mut self,
+        vertices: &[ProjectedVertex],
+        triangles: &[[u32; 3]],
+        surface: u32,
+        first: u32,
+        cull: Cull,
+        outline: Option<&[Outline]>,
+        mut visit: impl FnMut(&Self, &[ProjectedVertex; 3], Kept),
+    ) {
+        let mut poly = std::mem::take(&mut self.polygon);
         for (k, t) in triangles.iter().enumerate() {
             let outline = outline.map_or(Outline::Inside, |o| o[k]);
             let id = TriangleId { surface, triangle: first + k as u32, outline };
             let tri = t.map(|k| vertices[k as usize]);
             if tri.iter().all(|v| v.inside) {
-                self.add_triangle(&tri, id, cull);
+                if let Some(kept) = self.keep(&tri, id, cull) {
+                    visit(self, &tri, kept);
+                }
             } else {
-                let mut poly = std::mem::take(&mut self.polygon);
                 clip_polygon(&self.planes, &tri.map(|v| v.clip), &mut poly);
                 for k in 1..poly.len().saturating_sub(1) {
                     let piece = [poly[0], poly[k], poly[k + 1]].map(|c| self.project(c));
-                    self.add_triangle(&piece, id, cull);
+                    if let Some(kept) = self.keep(&piece, id, cull) {
+                        visit(self, &piece, kept);
+                    }
                 }
-                self.polygon = poly;
             }
         }
+        self.polygon = poly;
     }
 
-    fn add_triangle(&mut self, tri: &[ProjectedVertex; 3], id: TriangleId, cull: Cull) {
-        let cam = self.camera;
+    /// Whether the triangle is kept (it covers some area, faces the way `cull` keeps, and its box meets the
+    /// screen), and if so its vertices' order and box.
+    #[inline]
+    fn keep(&self, tri: &[ProjectedVertex; 3], id: TriangleId, cull: Cull) -> Option<Kept> {
         let fixed = tri.map(|v| v.fixed);
         let area = edge_at(fixed[0], fixed[1], fixed[2]);
         if area == 0 {
-            return;
+            return None;
         }
         // Counter-clockwise in (u,v) faces along N; on a screen with y down that is a negative area
         // (a positive one when the object's transform mirrors it).
         if let Cull::FacingAway { mirrored } = cull {
             if (area > 0) != mirrored {
-                return;
+                return None;
             }
         }
         // Order the vertices so the area is positive and E >= 0 inside.
         let order = if area > 0 { [0, 1, 2] } else { [0, 2, 1] };
         let fx = order.map(|k| fixed[k]);
+        // Along an outline the edges move out by a margin; they meet beyond the corners (far beyond at sharp
+        // ones), and the box keeps what lies within the margin of the triangle, which is all the outline needs.
+        let pad = if id.outline != Outline::Inside { OUTLINE_MARGIN_PX.ceil() as i64 * SUBPIXEL } else { 0 };
+        let (w, h) = (self.camera.width as i64, self.camera.height as i64);
+        let reach = self.reach;
+        let minx = ((fx.iter().map(|p| p[0]).min().unwrap_or(0) - pad).div_euclid(SUBPIXEL) - reach).max(0);
+        let maxx = ((fx.iter().map(|p| p[0]).max().unwrap_or(0) + pad).div_euclid(SUBPIXEL) + reach).min(w - 1);
+        let miny = ((fx.iter().map(|p| p[1]).min().unwrap_or(0) - pad).div_euclid(SUBPIXEL) - reach).max(0);
+        let maxy = ((fx.iter().map(|p| p[1]).max().unwrap_or(0) + pad).div_euclid(SUBPIXEL) + reach).min(h - 1);
+        (minx <= maxx && miny <= maxy).then_some(Kept { order, bbox: [minx, miny, maxx, maxy], id })
+    }
+
+    /// The kept triangle's edge functions and planes.
+    fn finish(&self, tri: &[ProjectedVertex; 3], kept: Kept) -> ScreenTriangle {
+        let Kept { order, bbox, id } = kept;
+        let fx = order.map(|k| tri[k].fixed);
         let edges_at = [(1, 2), (2, 0), (0, 1)];
         let mut edges = [[0i64; 3]; 3];
-        let mut bias = [0i64; 3];
         for (e, &(a, b)) in edges_at.iter().enumerate() {
             let (pa, pb) = (fx[a], fx[b]);
             let ca = -(pb[1] - pa[1]);
             let cb = pb[0] - pa[0];
-            edges[e] = [ca, cb, -(ca * pa[0] + cb * pa[1])];
             // Fill rule: a sample exactly on an edge belongs to the triangle for which (A, B) points "right or
             // down"; the neighbour across the edge has (-A, -B), so exactly one of the two owns it.
-            bias[e] = if ca > 0 || (ca == 0 && cb > 0) { 0 } else { -1 };
+            let bias = if ca > 0 || (ca == 0 && cb > 0) { 0 } else { -1 };
+            edges[e] = [ca, cb, bias - (ca * pa[0] + cb * pa[1])];
             if id.outline != Outline::Inside {
                 // Each edge moved out by the margin: E is the distance in subpixels times |(A, B)|.
                 let margin = OUTLINE_MARGIN_PX as f64 * SUBPIXEL as f64 * ((ca * ca + cb * cb) as f64).sqrt();
                 edges[e][2] += margin.ceil() as i64;
             }
         }
-        // Moved edges meet beyond the corners (far beyond at sharp ones); the box keeps what lies within the
-        // margin of the triangle, which is all the outline needs.
-        let pad = if id.outline != Outline::Inside { OUTLINE_MARGIN_PX.ceil() as i64 * SUBPIXEL } else { 0 };
-        let (w, h) = (cam.width as i64, cam.height as i64);
-        let reach = self.reach;
-        let minx = ((fx.iter().map(|p| p[0]).min().unwrap_or(0) - pad).div_euclid(SUBPIXEL) - reach).max(0);
-        let maxx = ((fx.iter().map(|p| p[0]).max().unwrap_or(0) + pad).div_euclid(SUBPIXEL) + reach).min(w - 1);
-        let miny = ((fx.iter().map(|p| p[1]).min().unwrap_or(0) - pad).div_euclid(SUBPIXEL) - reach).max(0);
-        let maxy = ((fx.iter().map(|p| p[1]).max().unwrap_or(0) + pad).div_euclid(SUBPIXEL) + reach).min(h - 1);
-        if minx > maxx || miny > maxy {
-            return;
-        }
         // Planes from the snapped positions, so interpolation agrees with coverage.
         let pos = fx.map(|p| [p[0] as f64 / SUBPIXEL as f64, p[1] as f64 / SUBPIXEL as f64]);
         let q = order.map(|k| tri[k].q as f64);
-        let depth_key = order.map(|k| if cam.is_perspective() { tri[k].q as f64 } else { tri[k].clip.pos.z as f64 });
+        let perspective = self.camera.is_perspective();
+        let depth_key = order.map(|k| if perspective { tri[k].q as f64 } else { tri[k].clip.pos.z as f64 });
         let basis = PlaneBasis::new(&pos);
-        self.triangles.push(ScreenTriangle {
+        ScreenTriangle {
             edges,
-            bias,
-            bbox: [minx as i32, miny as i32, maxx as i32, maxy as i32],
+            bbox: bbox.map(|c| c as i32),
             origin: Vec2::new(pos[0][0] as f32, pos[0][1] as f32),
             depth: basis.plane(depth_key),
             s: basis.plane(q),
@@ -287,8 +352,17 @@ impl<'a> TriangleSetup<'a> {
             surface: id.surface,
             triangle: id.triangle,
             outline: id.outline,
-        });
+        }
     }
+}
+
+/// What the setup keeps of a triangle before making its planes: the order of its vertices that makes its
+/// area positive, its box in whole pixels (clipped to the screen) and its numbers.
+#[derive(Clone, Copy)]
+struct Kept {
+    order: [usize; 3],
+    bbox: [i64; 4],
+    id: TriangleId,
 }
 
 /// The edge function of a-b at p (twice the signed area of a, b, p), in fixed point.

@@ -241,7 +241,7 @@ impl VisBuffer {
             let inside = (0..3).all(|e| {
                 let [a, b, c] = tri.edges[e];
                 let at_pixel = a * (x as i64 * SUBPIXEL) + b * (y as i64 * SUBPIXEL) + c;
-                at_pixel + (a * offset[0] + b * offset[1] + tri.bias[e]) >= 0
+                at_pixel + a * offset[0] + b * offset[1] >= 0
             });
             if !inside {
                 continue;
@@ -346,11 +346,11 @@ fn cover_same<const SPP: usize>(
 ) {
     let Some([x_lo, x_hi, y_lo, y_hi]) = pixels_of(tri, rect) else { return };
     let [e0, e1, e2] = tri.edges;
-    // Per-sample offsets of each edge function, with the fill-rule bias folded in, and the sample's
-    // position relative to the triangle's origin (less the pixel's).
+    // Per-sample offsets of each edge function, and the sample's position relative to the triangle's origin
+    // (less the pixel's).
     let offs: [[i64; 3]; SPP] = std::array::from_fn(|s| {
         let o = offsets[s];
-        std::array::from_fn(|k| tri.edges[k][0] * o[0] + tri.edges[k][1] * o[1] + tri.bias[k])
+        std::array::from_fn(|k| tri.edges[k][0] * o[0] + tri.edges[k][1] * o[1])
     });
     let rel: [(f32, f32); SPP] = std::array::from_fn(|s| {
         let [ox, oy] = offsets[s];
@@ -384,11 +384,9 @@ fn cover_each(
 ) {
     let Some([x_lo, x_hi, y_lo, y_hi]) = pixels_of(tri, rect) else { return };
     let [e0, e1, e2] = tri.edges;
-    let biased = |e: [i64; 3], k: usize| [e[0], e[1], e[2] + tri.bias[k]];
-    let (b0, b1, b2) = (biased(e0, 0), biased(e1, 1), biased(e2, 2));
     for y in y_lo..=y_hi {
         for x in x_lo..=x_hi {
-            let (w0, w1, w2) = (edge_at_pixel(b0, x, y), edge_at_pixel(b1, x, y), edge_at_pixel(b2, x, y));
+            let (w0, w1, w2) = (edge_at_pixel(e0, x, y), edge_at_pixel(e1, x, y), edge_at_pixel(e2, x, y));
             for (s, &[ox, oy]) in samples.at(x, y).iter().enumerate() {
                 let at = |w: i64, e: [i64; 3]| w + e[0] * ox + e[1] * oy;
                 if at(w0, e0) | at(w1, e1) | at(w2, e2) >= 0 {
@@ -436,8 +434,7 @@ mod tests {
             let pattern = SamplePattern::new(spp, sampler, filter).unwrap();
             let mut setup = TriangleSetup::new(&camera).reaching(pattern.reach());
             let vertices = setup.project_vertices(&positions, None, &Affine3A::IDENTITY);
-            setup.add_triangles(&vertices, &triangles, 0, 0, Cull::Nothing, None);
-            let tris = setup.triangles;
+            let tris = setup.triangles_of(&vertices, &triangles, 0, 0, Cull::Nothing, None);
             let bins = Bins::new(&tris, 64, 48, 64);
             let peeled = |one_by_one: bool| {
                 let mut vis = VisBuffer::new(64, spp);

@@ -279,7 +279,9 @@ fn render_view_parts(
         placed
     };
     let mut instances = placed_for(&camera);
+    let t = Instant::now();
     let diced = displace::displace(&mut instances, &scene.materials, &camera)?;
+    stats.tessellate_ms = ms(t);
     let pattern = options.sample_pattern()?;
     let drawn = Drawn::new(&instances, diced, &camera, pattern.reach(), &mut stats);
     let t = Instant::now();
@@ -639,24 +641,50 @@ fn setup_triangles(
         .enumerate()
         .flat_map(|(s, m)| (0..m.triangles().len()).step_by(CHUNK).map(move |start| (s, start)))
         .collect();
-    let parts: Vec<Vec<ScreenTriangle>> = jobs
+    // Each job's triangles are counted first and then written in place, into one vector: a million-triangle
+    // mesh's setup writes a hundred megabytes, which collecting pieces and joining them wrote twice.
+    let job = |&(s, start): &(usize, usize)| {
+        let tris = meshes[s].triangles();
+        let end = (start + CHUNK).min(tris.len());
+        (s, start, &tris[start..end], outlines[s].as_ref().map(|o| &o[start..end]))
+    };
+    let counts: Vec<usize> = jobs
         .par_iter()
-        .map(|&(s, start)| {
-            let tris = meshes[s].triangles();
-            let end = (start + CHUNK).min(tris.len());
-            let mut setup = TriangleSetup::new(camera).reaching(reach);
-            setup.add_triangles(
+        .map(|j| {
+            let (s, _, tris, outline) = job(j);
+            TriangleSetup::new(camera).reaching(reach).count_triangles(
                 &projected[s],
-                &tris[start..end],
-                s as u32,
-                first[s] + start as u32,
+                tris,
                 cull(&instances[s]),
-                outlines[s].as_ref().map(|o| &o[start..end]),
-            );
-            setup.triangles
+                outline,
+            )
         })
         .collect();
-    parts.concat()
+    let total = counts.iter().sum();
+    let mut triangles = Vec::with_capacity(total);
+    let mut rest = &mut triangles.spare_capacity_mut()[..total];
+    let mut places = Vec::with_capacity(jobs.len());
+    for &count in &counts {
+        let (place, after) = rest.split_at_mut(count);
+        places.push(place);
+        rest = after;
+    }
+    jobs.par_iter().zip(places).for_each(|(j, place)| {
+        let (s, start, tris, outline) = job(j);
+        TriangleSetup::new(camera).reaching(reach).write_triangles(
+            &projected[s],
+            tris,
+            s as u32,
+            first[s] + start as u32,
+            cull(&instances[s]),
+            outline,
+            place,
+        );
+    });
+    // SAFETY: every job wrote exactly the `count` triangles of its place (`write_triangles` panics
+    // otherwise, and a panic ends the frame before this line), and the places tile the first `total` slots.
+    unsafe { triangles.set_len(total) };
+    triangles
 }
 
 /// Closed surfaces are never seen from inside: their triangles facing away are dropped.

@@ -5,6 +5,7 @@
 //! light's angle to the view.
 
 use super::{displace, Drawn, TileJob, TileScratch};
+use crate::bump::DisplacementMode;
 use crate::envmap::chart::Face;
 use crate::geometry::Instance;
 use crate::light::shadow::{depth_of_key, ShadowView, CUBE_MARGIN};
@@ -38,7 +39,13 @@ pub(super) fn shadows(
     frame_side: usize,
 ) -> Result<Option<Shadows>> {
     let mut self_shadowless: Vec<bool> = scene.objects.iter().map(|o| o.shape.cannot_shadow_itself()).collect();
-    for inst in instances.iter().filter(|i| scene.materials[i.material].displacement.is_some()) {
+    // Fully displaced surfaces shadow themselves; silhouette mode bump-maps all but the outline, so it
+    // shadows itself as its smooth base does, as bump mapping does (its outline still shapes the shadows
+    // it casts on others).
+    let displaced_fully = |i: &&Instance| {
+        scene.materials[i.material].displacement.as_ref().is_some_and(|d| d.mode == DisplacementMode::Full)
+    };
+    for inst in instances.iter().filter(displaced_fully) {
         self_shadowless[inst.object as usize] = false;
     }
     let mut objects: Vec<u32> = instances.iter().map(|i| i.object).collect();

@@ -109,10 +109,10 @@ fn coverage(camera: &Camera, mesh: &Mesh, object_to_world: Affine3A, cull: bool,
     let vertices =
         setup.project_vertices(&mesh.positions, Some(&mesh.uvs), &(camera.world_to_camera * object_to_world));
     let cull = if cull { Cull::FacingAway { mirrored: false } } else { Cull::Nothing };
-    setup.add_triangles(&vertices, &mesh.triangles, 0, 0, cull, None);
+    let triangles = setup.triangles_of(&vertices, &mesh.triangles, 0, 0, cull, None);
     let samples = TileOffsets::of(pattern, (0, 0, w, h));
     let mut count = vec![0u16; w * h * spp];
-    for t in &setup.triangles {
+    for t in &triangles {
         cover(t, &samples, (0, 0, w, h), |x, y, s, _, _| count[(y * w + x) * spp + s] += 1);
     }
     count
