@@ -9,6 +9,7 @@ use crate::lanes::{F8, LANES};
 use glam::{Affine3A, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 use std::mem::MaybeUninit;
+use std::sync::Mutex;
 
 /// a(x, y) = a0 + ax (x - x0) + ay (y - y0): an attribute that is affine in screen space.
 #[derive(Clone, Copy, Debug, Default)]
@@ -79,6 +80,35 @@ pub struct ScreenTriangle {
     /// Where it lies against a curved surface's outline: along it, it is widened by
     /// `exact::OUTLINE_MARGIN_PX` and samples it covers are tested against the exact surface (raster/exact.rs).
     pub outline: Outline,
+}
+
+/// The memory of the last frame's set-up triangles, kept for the next frame: a million-triangle mesh sets up
+/// about 60 MB, and fresh memory costs page faults that took as long as the setup itself. Animations,
+/// turntables, the paint page and Python loops draw many frames; one frame alone gains nothing and loses
+/// nothing.
+static SPARE_TRIANGLES: Mutex<Vec<ScreenTriangle>> = Mutex::new(Vec::new());
+
+/// The most memory kept between frames.
+const SPARE_BYTES: usize = 256 << 20;
+
+/// An empty vector with room for `capacity` triangles: the last frame's, when no other frame holds it.
+pub fn triangle_buffer(capacity: usize) -> Vec<ScreenTriangle> {
+    let mut buffer = SPARE_TRIANGLES.try_lock().map(|mut spare| std::mem::take(&mut *spare)).unwrap_or_default();
+    buffer.clear();
+    buffer.reserve(capacity);
+    buffer
+}
+
+/// Keeps a frame's triangle memory for the next frame (the larger of two, up to `SPARE_BYTES`).
+pub fn keep_triangle_buffer(buffer: Vec<ScreenTriangle>) {
+    if buffer.capacity() * std::mem::size_of::<ScreenTriangle>() > SPARE_BYTES {
+        return;
+    }
+    if let Ok(mut spare) = SPARE_TRIANGLES.try_lock() {
+        if buffer.capacity() > spare.capacity() {
+            *spare = buffer;
+        }
+    }
 }
 
 /// Which surface a triangle belongs to, and its number within its object.

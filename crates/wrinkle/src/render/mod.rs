@@ -25,7 +25,7 @@ use crate::procedural::hypertexture::Hypertexture;
 use crate::raster::exact::{exact8, frames_at, outline_triangles, start_within, tested_lanes, Outline};
 use crate::raster::refine::{affine_uv8, refine_uv8};
 pub use crate::raster::samples::{PixelFilter, Sampler, MAX_SPP};
-use crate::raster::setup::ProjectedVertex;
+use crate::raster::setup::{keep_triangle_buffer, triangle_buffer, ProjectedVertex};
 use crate::raster::visibility::EMPTY;
 use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
 use crate::scene::{CameraDesc, Scene};
@@ -551,6 +551,12 @@ struct Drawn<'a> {
     triangles: Vec<ScreenTriangle>,
 }
 
+impl Drop for Drawn<'_> {
+    fn drop(&mut self) {
+        keep_triangle_buffer(std::mem::take(&mut self.triangles));
+    }
+}
+
 impl<'a> Drawn<'a> {
     /// Tessellates the instances' surfaces for `camera` (or takes their diced or mesh triangles) and sets
     /// every triangle up for samples that reach `reach` pixels past their own, timing both stages into
@@ -661,7 +667,7 @@ fn setup_triangles(
         })
         .collect();
     let total = counts.iter().sum();
-    let mut triangles = Vec::with_capacity(total);
+    let mut triangles = triangle_buffer(total);
     let mut rest = &mut triangles.spare_capacity_mut()[..total];
     let mut places = Vec::with_capacity(jobs.len());
     for &count in &counts {
