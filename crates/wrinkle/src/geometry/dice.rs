@@ -11,7 +11,7 @@
 
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 /// The most cuts of one base edge.
 pub const MAX_RATE: u32 = 1024;
@@ -166,7 +166,8 @@ struct Edges {
 impl Edges {
     /// Faces that are not `alive` have no edges (their `of_face` is unused).
     fn new(faces: &[Face], alive: &[bool], of: impl Fn(u32) -> u32) -> Edges {
-        let mut index: HashMap<EdgeKey, u32> = HashMap::with_capacity(faces.len() * 2);
+        let mut index: FxHashMap<EdgeKey, u32> =
+            FxHashMap::with_capacity_and_hasher(faces.len() * 2, Default::default());
         let mut edges = Edges { of_face: Vec::with_capacity(faces.len()), ends: Vec::new(), users: Vec::new() };
         for (f, face) in faces.iter().enumerate() {
             let mut ids = [0; 4];
@@ -237,14 +238,29 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
         .collect();
     // Positions: welded vertices and welded edges, each sampled from every face around it.
     let welded_edges = Edges::new(faces, &alive, weld);
-    let mut corner_users: Vec<Vec<(u32, u8)>> = vec![Vec::new(); base.welded];
-    for (f, face) in faces.iter().enumerate().filter(|&(f, _)| alive[f]) {
-        for k in 0..face.sides {
-            corner_users[weld(face.corner(k as usize)) as usize].push((f as u32, k));
+    // The faces around each welded vertex, as (face, corner within it): vertex w's are
+    // `users[starts[w]..starts[w + 1]]`.
+    let mut starts = vec![0u32; base.welded + 1];
+    for (face, _) in faces.iter().zip(&alive).filter(|&(_, &alive)| alive) {
+        for k in 0..face.sides as usize {
+            starts[weld(face.corner(k)) as usize + 1] += 1;
         }
     }
-    let corners: Vec<DiceSample> = corner_users
-        .par_iter()
+    for w in 0..base.welded {
+        starts[w + 1] += starts[w];
+    }
+    let mut users = vec![(0u32, 0u8); starts[base.welded] as usize];
+    let mut next = starts.clone();
+    for (f, face) in faces.iter().enumerate().filter(|&(f, _)| alive[f]) {
+        for k in 0..face.sides {
+            let w = weld(face.corner(k as usize)) as usize;
+            users[next[w] as usize] = (f as u32, k);
+            next[w] += 1;
+        }
+    }
+    let corners: Vec<DiceSample> = starts
+        .par_windows(2)
+        .map(|range| &users[range[0] as usize..range[1] as usize])
         .map(|users| {
             if users.is_empty() {
                 // Only on faces left out: never a vertex of the result.
@@ -476,7 +492,8 @@ fn snapped(face: &Face, k: usize, s: u32, n: u32, rate: u32, ends: EdgeKey, firs
 pub fn weld(positions: &[Vec3], tolerance: f32) -> (Vec<u32>, usize) {
     let mut numbers = Vec::with_capacity(positions.len());
     if tolerance == 0.0 {
-        let mut index: HashMap<[u32; 3], u32> = HashMap::with_capacity(positions.len());
+        let mut index: FxHashMap<[u32; 3], u32> =
+            FxHashMap::with_capacity_and_hasher(positions.len(), Default::default());
         for &p in positions {
             let next = index.len() as u32;
             numbers.push(*index.entry((p + Vec3::ZERO).to_array().map(f32::to_bits)).or_insert(next));
@@ -484,7 +501,8 @@ pub fn weld(positions: &[Vec3], tolerance: f32) -> (Vec<u32>, usize) {
         return (numbers, index.len());
     }
     let at = |p: Vec3| (p / tolerance).floor().as_ivec3();
-    let mut grid: HashMap<glam::IVec3, Vec<u32>> = HashMap::with_capacity(positions.len());
+    let mut grid: FxHashMap<glam::IVec3, Vec<u32>> =
+        FxHashMap::with_capacity_and_hasher(positions.len(), Default::default());
     let mut reps = Vec::<Vec3>::new();
     for &p in positions {
         let c = at(p);
@@ -618,7 +636,7 @@ mod tests {
                     let want = if (q - p).cross(r - p).length() < 1e-9 { 0.0 } else { 0.5 };
                     assert!((a - want).abs() < 1e-4, "base triangle {t}: diced area {a}, want {want}");
                 }
-                let mut directed: HashMap<(Vec3Key, Vec3Key), i32> = HashMap::new();
+                let mut directed: FxHashMap<(Vec3Key, Vec3Key), i32> = FxHashMap::default();
                 for tri in &d.triangles {
                     for k in 0..3 {
                         let (a, b) = (d.positions[tri[k] as usize], d.positions[tri[(k + 1) % 3] as usize]);

@@ -119,6 +119,7 @@ impl Surface {
     pub fn frame8(&self, u: F8, v: F8) -> Frame8 {
         match *self {
             Surface::Sphere { radius } => sphere8(radius, u, v),
+            Surface::Bicubic { ref points } => bezier8(points, u, v),
             _ => {
                 let (u, v) = (u.as_array_ref(), v.as_array_ref());
                 Frame8::from_lanes(&std::array::from_fn(|i| self.frame(u[i], v[i])))
@@ -134,6 +135,37 @@ impl Surface {
             *f = self.frame(u[i], v[i]);
         }
     }
+}
+
+/// The cubic Bernstein basis and its first and second derivatives on every lane: the scalar `bernstein`'s
+/// operations in its order, so the frames are the scalar ones to the bit.
+#[inline]
+fn bernstein8(t: F8) -> ([F8; 4], [F8; 4], [F8; 4]) {
+    let k = F8::splat;
+    let s = F8::ONE - t;
+    let b = [s * s * s, k(3.0) * t * s * s, k(3.0) * t * t * s, t * t * t];
+    let d = [k(-3.0) * s * s, k(3.0) * s * s - k(6.0) * t * s, k(6.0) * t * s - k(3.0) * t * t, k(3.0) * t * t];
+    let dd = [k(6.0) * s, k(18.0) * t - k(12.0), k(6.0) - k(18.0) * t, k(6.0) * t];
+    (b, d, dd)
+}
+
+/// The bicubic Bezier patch's frame on every lane (the scalar `bezier`'s sums in its order: the same bits).
+fn bezier8(points: &[glam::Vec3; 16], u: F8, v: F8) -> Frame8 {
+    let (bu, du, ddu) = bernstein8(u);
+    let (bv, dv, ddv) = bernstein8(v);
+    let mut f = Frame8 { p: V3::ZERO, pu: V3::ZERO, pv: V3::ZERO, puu: V3::ZERO, puv: V3::ZERO, pvv: V3::ZERO };
+    for j in 0..4 {
+        for i in 0..4 {
+            let q = V3::splat(points[4 * j + i]);
+            f.p = f.p + q * (bu[i] * bv[j]);
+            f.pu = f.pu + q * (du[i] * bv[j]);
+            f.pv = f.pv + q * (bu[i] * dv[j]);
+            f.puu = f.puu + q * (ddu[i] * bv[j]);
+            f.puv = f.puv + q * (du[i] * dv[j]);
+            f.pvv = f.pvv + q * (bu[i] * ddv[j]);
+        }
+    }
+    f
 }
 
 /// sin_cos_turns on every lane: the same polynomial and octant reduction.
@@ -213,6 +245,25 @@ mod tests {
         for i in 0..LANES {
             let (s, c) = sin_cos_turns(t.as_array_ref()[i]);
             assert!((s - s8.as_array_ref()[i]).abs() < 1e-7 && (c - c8.as_array_ref()[i]).abs() < 1e-7);
+        }
+    }
+
+    /// The Bezier patch on lanes is its scalar frame to the bit (the teapot's pixels do not depend on
+    /// which path shaded them).
+    #[test]
+    fn bezier_lanes_are_the_scalar_frames_exactly() {
+        let points: [Vec3; 16] = std::array::from_fn(|k| {
+            Vec3::new((k % 4) as f32 * 0.7, (k / 4) as f32 * 0.45, ((k * 7) % 5) as f32 * 0.31 - 0.6)
+        });
+        let s = Surface::Bicubic { points };
+        let u = F8::new([0.0, 0.13, 0.26, 0.49, 0.51, 0.74, 0.99, 1.0]);
+        let v = F8::new([1.0, 0.07, 0.3, 0.5, 0.62, 0.88, 0.97, 0.0]);
+        let f8 = s.frame8(u, v);
+        for i in 0..LANES {
+            let (f, g) = (s.frame(u.as_array_ref()[i], v.as_array_ref()[i]), f8.lane(i));
+            for (a, b) in [(f.p, g.p), (f.pu, g.pu), (f.pv, g.pv), (f.puu, g.puu), (f.puv, g.puv), (f.pvv, g.pvv)] {
+                assert_eq!(a.to_array().map(f32::to_bits), b.to_array().map(f32::to_bits), "lane {i}: {a} vs {b}");
+            }
         }
     }
 

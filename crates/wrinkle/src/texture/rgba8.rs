@@ -217,7 +217,10 @@ impl Rgba8Plane {
     pub fn decode8(&self, words: I8) -> [F8; 4] {
         #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
         {
-            decode8_avx2(self.decode, words)
+            match self.srgb {
+                true => decode8_avx2(self.decode, words),
+                false => decode8_linear_avx2(words),
+            }
         }
         #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
         {
@@ -242,6 +245,32 @@ fn decode8_avx2(table: &DecodeTable, words: I8) -> [F8; 4] {
         let byte = _mm256_set1_epi32(0xFF);
         let channel = |c: __m256i| -> F8 {
             std::mem::transmute(_mm256_i32gather_ps::<4>(table.as_ptr(), _mm256_and_si256(c, byte)))
+        };
+        let alpha = _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_srli_epi32::<24>(v)), _mm256_set1_ps(1.0 / 255.0));
+        [
+            channel(v),
+            channel(_mm256_srli_epi32::<8>(v)),
+            channel(_mm256_srli_epi32::<16>(v)),
+            std::mem::transmute::<__m256, F8>(alpha),
+        ]
+    }
+}
+
+/// Linear channels computed as the table holds them (code / 255, one correctly rounded division, so the
+/// same bits): no gathers, which are most of a linear texture's (a normal map's) tap on CPUs that issue them
+/// slowly.
+#[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+#[inline]
+fn decode8_linear_avx2(words: I8) -> [F8; 4] {
+    use std::arch::x86_64::*;
+    // SAFETY: AVX2 is enabled at compile time (cfg above); `__m256` and `F8` are both eight f32 lanes and
+    // `__m256i` and `I8` eight i32, so the transmutes only rename.
+    unsafe {
+        let v: __m256i = std::mem::transmute(words);
+        let byte = _mm256_set1_epi32(0xFF);
+        let channel = |c: __m256i| -> F8 {
+            let code = _mm256_cvtepi32_ps(_mm256_and_si256(c, byte));
+            std::mem::transmute(_mm256_div_ps(code, _mm256_set1_ps(255.0)))
         };
         let alpha = _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_srli_epi32::<24>(v)), _mm256_set1_ps(1.0 / 255.0));
         [
@@ -341,6 +370,35 @@ mod tests {
         }
         // A prefetch is a hint: outside the plane it does nothing (and does not panic).
         plane.prefetch(w + 3, h + 4);
+    }
+
+    /// Every code of every channel decodes on lanes to the table's bits, sRGB and linear (the linear lanes
+    /// compute it instead of reading the table).
+    #[test]
+    fn lane_decoding_is_the_tables_for_every_code() {
+        for srgb in [false, true] {
+            let plane = Rgba8Plane::from_top_rows(1, 1, &[[0; 4]], srgb);
+            for start in (0..256).step_by(8) {
+                let words = I8::new(std::array::from_fn(|l| {
+                    let c = (start + l) as u32;
+                    (c | (255 - c) << 8 | (c ^ 0x5A) << 16 | c << 24) as i32
+                }));
+                let got = plane.decode8(words).map(|c| c.to_array());
+                for (l, &w) in words.as_array_ref().iter().enumerate() {
+                    let w = w as u32;
+                    for (k, channel) in got.iter().enumerate().take(3) {
+                        let want = plane.decode[(w >> (8 * k)) as usize & 0xFF];
+                        assert_eq!(
+                            channel[l].to_bits(),
+                            want.to_bits(),
+                            "srgb {srgb} code {} channel {k}",
+                            w >> (8 * k) & 0xFF
+                        );
+                    }
+                    assert_eq!(got[3][l].to_bits(), plane.decode[256 + (w >> 24) as usize].to_bits());
+                }
+            }
+        }
     }
 
     /// Gathers clamp each index into its own plane: below it reads the first texel, past it the last.
