@@ -90,25 +90,36 @@ impl ShadowView {
             let (y0, y1) = (by * BLOCK, ((by + 1) * BLOCK).min(h) - 1);
             for (bx, block) in row.iter_mut().enumerate() {
                 let (x0, x1) = (bx * BLOCK, ((bx + 1) * BLOCK).min(w) - 1);
-                let texels = || (y0..=y1).flat_map(move |y| (x0..=x1).map(move |x| (x, y, y * w + x)));
-                for (_, _, k) in texels() {
-                    let o = u32::from_le_bytes(object[k]);
-                    block.least = block.least.min(depth[k]);
-                    block.object = match block.object {
-                        EMPTY => o,
-                        b if b == o || o == EMPTY => b,
-                        _ => MIXED,
-                    };
+                // The block's rows of texels, as (y, the row's depths, its objects): plain slices, which
+                // the loops below run through several times faster than nested iterator closures.
+                let rows = || (y0..=y1).map(|y| (y, &depth[y * w + x0..=y * w + x1], &object[y * w + x0..=y * w + x1]));
+                let mut finite = true;
+                for (_, depths, objects) in rows() {
+                    for (&d, o) in depths.iter().zip(objects) {
+                        let o = u32::from_le_bytes(*o);
+                        block.least = block.least.min(d);
+                        finite &= d.is_finite();
+                        block.object = match block.object {
+                            EMPTY => o,
+                            b if b == o || o == EMPTY => b,
+                            _ => MIXED,
+                        };
+                    }
                 }
                 // The plane through the corners' slopes, lowered under every texel.
                 let d = |x: usize, y: usize| depth[y * w + x];
-                if x1 == x0 || y1 == y0 || texels().any(|(_, _, k)| !depth[k].is_finite()) {
+                if x1 == x0 || y1 == y0 || !finite {
                     continue;
                 }
                 let gx = (d(x1, y0) - d(x0, y0) + d(x1, y1) - d(x0, y1)) / (2 * (x1 - x0)) as f32;
                 let gy = (d(x0, y1) - d(x0, y0) + d(x1, y1) - d(x1, y0)) / (2 * (y1 - y0)) as f32;
-                let above = |x: usize, y: usize| d(x0, y0) + gx * (x - x0) as f32 + gy * (y - y0) as f32 - d(x, y);
-                let lowered = texels().map(|(x, y, _)| above(x, y)).fold(0.0, f32::max);
+                let mut lowered = 0.0f32;
+                for (y, depths, _) in rows() {
+                    for (i, &texel) in depths.iter().enumerate() {
+                        let above = d(x0, y0) + gx * i as f32 + gy * (y - y0) as f32 - texel;
+                        lowered = lowered.max(above);
+                    }
+                }
                 block.plane = Some((d(x0, y0) - lowered, gx, gy));
             }
         });
