@@ -62,6 +62,7 @@ pub mod internals {
     pub use crate::geometry::tessellate::{grid, Mesh};
     pub use crate::lanes::{F8, LANES, V3};
     pub use crate::raster::samples::TileOffsets;
+    pub use crate::raster::setup::ProjectedMesh;
     pub use crate::raster::visibility::cover;
     pub use crate::raster::{Cull, SamplePattern, TriangleSetup};
     pub use crate::texture::ewa::Axes;

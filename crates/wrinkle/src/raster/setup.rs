@@ -171,6 +171,19 @@ pub struct ProjectedVertex {
     inside: bool,
 }
 
+/// Triangles of a projected mesh to set up: all of surface `surface`, the first of them numbered `first`
+/// within its object; `cull` says which to drop by the way they face, `outline` (where given, one flag per
+/// triangle) which lie along the surface's outline.
+#[derive(Clone, Copy)]
+pub struct ProjectedMesh<'a> {
+    pub vertices: &'a [ProjectedVertex],
+    pub triangles: &'a [[u32; 3]],
+    pub surface: u32,
+    pub first: u32,
+    pub cull: Cull,
+    pub outline: Option<&'a [Outline]>,
+}
+
 /// Projects and sets up triangles of one camera, clipping where needed.
 pub struct TriangleSetup<'a> {
     camera: &'a Camera,
@@ -221,57 +234,27 @@ impl<'a> TriangleSetup<'a> {
         ProjectedVertex { clip, fixed, q, inside }
     }
 
-    /// The triangles of a projected mesh set up, all of surface `surface`, the first of them numbered `first`
-    /// within its object. `cull` says which triangles to drop by the way they face; `outline`, where given,
-    /// which lie along the surface's outline (one flag per triangle). The frame counts and writes them in
-    /// place instead (`count_triangles`, `write_triangles`); the tests take them whole.
+    /// The triangles of a projected mesh set up. The frame counts and writes them in place instead
+    /// (`count_triangles`, `write_triangles`); the tests take them whole.
     #[cfg(any(test, feature = "internals"))]
-    pub fn triangles_of(
-        &mut self,
-        vertices: &[ProjectedVertex],
-        triangles: &[[u32; 3]],
-        surface: u32,
-        first: u32,
-        cull: Cull,
-        outline: Option<&[Outline]>,
-    ) -> Vec<ScreenTriangle> {
-        let mut out = Vec::with_capacity(triangles.len());
-        self.each_kept(vertices, triangles, surface, first, cull, outline, |setup, tri, kept| {
-            out.push(setup.finish(tri, kept));
-        });
+    pub fn triangles_of(&mut self, mesh: ProjectedMesh) -> Vec<ScreenTriangle> {
+        let mut out = Vec::with_capacity(mesh.triangles.len());
+        self.each_kept(mesh, |setup, tri, kept| out.push(setup.finish(tri, kept)));
         out
     }
 
     /// How many triangles of a projected mesh the setup keeps (clipped pieces counted one by one).
-    pub fn count_triangles(
-        &mut self,
-        vertices: &[ProjectedVertex],
-        triangles: &[[u32; 3]],
-        cull: Cull,
-        outline: Option<&[Outline]>,
-    ) -> usize {
+    pub fn count_triangles(&mut self, mesh: ProjectedMesh) -> usize {
         let mut count = 0;
-        self.each_kept(vertices, triangles, 0, 0, cull, outline, |_, _, _| count += 1);
+        self.each_kept(mesh, |_, _, _| count += 1);
         count
     }
 
-    /// Writes into `out` the triangles of a projected mesh set up (all of surface `surface`, the first of
-    /// them numbered `first` within its object; `cull` says which to drop by the way they face, `outline`
-    /// which lie along the surface's outline), which `count_triangles` counted to exactly `out.len()`;
-    /// panics where they are not as many.
-    #[allow(clippy::too_many_arguments)]
-    pub fn write_triangles(
-        &mut self,
-        vertices: &[ProjectedVertex],
-        triangles: &[[u32; 3]],
-        surface: u32,
-        first: u32,
-        cull: Cull,
-        outline: Option<&[Outline]>,
-        out: &mut [MaybeUninit<ScreenTriangle>],
-    ) {
+    /// Writes into `out` the triangles of a projected mesh set up, which `count_triangles` counted to
+    /// exactly `out.len()`; panics where they are not as many.
+    pub fn write_triangles(&mut self, mesh: ProjectedMesh, out: &mut [MaybeUninit<ScreenTriangle>]) {
         let mut n = 0;
-        self.each_kept(vertices, triangles, surface, first, cull, outline, |setup, tri, kept| {
+        self.each_kept(mesh, |setup, tri, kept| {
             out[n].write(setup.finish(tri, kept));
             n += 1;
         });
@@ -280,17 +263,8 @@ impl<'a> TriangleSetup<'a> {
 
     /// Calls `visit` with each triangle the setup keeps (each piece of one that is clipped) and what it
     /// keeps of it.
-    #[allow(clippy::too_many_arguments)]
-    fn each_kept(
-        &mut self,
-        vertices: &[ProjectedVertex],
-        triangles: &[[u32; 3]],
-        surface: u32,
-        first: u32,
-        cull: Cull,
-        outline: Option<&[Outline]>,
-        mut visit: impl FnMut(&Self, &[ProjectedVertex; 3], Kept),
-    ) {
+    fn each_kept(&mut self, mesh: ProjectedMesh, mut visit: impl FnMut(&Self, &[ProjectedVertex; 3], Kept)) {
+        let ProjectedMesh { vertices, triangles, surface, first, cull, outline } = mesh;
         let mut poly = std::mem::take(&mut self.polygon);
         for (k, t) in triangles.iter().enumerate() {
             let outline = outline.map_or(Outline::Inside, |o| o[k]);

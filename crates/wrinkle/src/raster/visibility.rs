@@ -402,6 +402,7 @@ fn cover_each(
 mod tests {
     use super::*;
     use crate::raster::samples::{PixelFilter, Sampler};
+    use crate::raster::setup::ProjectedMesh;
     use crate::raster::{Camera, Cull, Projection, TriangleSetup};
     use glam::{Affine3A, Vec3};
 
@@ -434,7 +435,15 @@ mod tests {
             let pattern = SamplePattern::new(spp, sampler, filter).unwrap();
             let mut setup = TriangleSetup::new(&camera).reaching(pattern.reach());
             let vertices = setup.project_vertices(&positions, None, &Affine3A::IDENTITY);
-            let tris = setup.triangles_of(&vertices, &triangles, 0, 0, Cull::Nothing, None);
+            let mesh = ProjectedMesh {
+                vertices: &vertices,
+                triangles: &triangles,
+                surface: 0,
+                first: 0,
+                cull: Cull::Nothing,
+                outline: None,
+            };
+            let tris = setup.triangles_of(mesh);
             let bins = Bins::new(&tris, 64, 48, 64);
             let peeled = |one_by_one: bool| {
                 let mut vis = VisBuffer::new(64, spp);

@@ -25,7 +25,7 @@ use crate::procedural::hypertexture::Hypertexture;
 use crate::raster::exact::{exact8, frames_at, outline_triangles, start_within, tested_lanes, Outline};
 use crate::raster::refine::{affine_uv8, refine_uv8};
 pub use crate::raster::samples::{PixelFilter, Sampler, MAX_SPP};
-use crate::raster::setup::{keep_triangle_buffer, triangle_buffer, ProjectedVertex};
+use crate::raster::setup::{keep_triangle_buffer, triangle_buffer, ProjectedMesh, ProjectedVertex};
 use crate::raster::visibility::EMPTY;
 use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
 use crate::scene::{CameraDesc, Scene};
@@ -649,23 +649,20 @@ fn setup_triangles(
         .collect();
     // Each job's triangles are counted first and then written in place, into one vector: a million-triangle
     // mesh's setup writes a hundred megabytes, which collecting pieces and joining them wrote twice.
-    let job = |&(s, start): &(usize, usize)| {
+    let part = |&(s, start): &(usize, usize)| {
         let tris = meshes[s].triangles();
         let end = (start + CHUNK).min(tris.len());
-        (s, start, &tris[start..end], outlines[s].as_ref().map(|o| &o[start..end]))
+        ProjectedMesh {
+            vertices: &projected[s],
+            triangles: &tris[start..end],
+            surface: s as u32,
+            first: first[s] + start as u32,
+            cull: cull(&instances[s]),
+            outline: outlines[s].as_ref().map(|o| &o[start..end]),
+        }
     };
-    let counts: Vec<usize> = jobs
-        .par_iter()
-        .map(|j| {
-            let (s, _, tris, outline) = job(j);
-            TriangleSetup::new(camera).reaching(reach).count_triangles(
-                &projected[s],
-                tris,
-                cull(&instances[s]),
-                outline,
-            )
-        })
-        .collect();
+    let setup = || TriangleSetup::new(camera).reaching(reach);
+    let counts: Vec<usize> = jobs.par_iter().map(|j| setup().count_triangles(part(j))).collect();
     let total = counts.iter().sum();
     let mut triangles = triangle_buffer(total);
     let mut rest = &mut triangles.spare_capacity_mut()[..total];
@@ -675,18 +672,7 @@ fn setup_triangles(
         places.push(place);
         rest = after;
     }
-    jobs.par_iter().zip(places).for_each(|(j, place)| {
-        let (s, start, tris, outline) = job(j);
-        TriangleSetup::new(camera).reaching(reach).write_triangles(
-            &projected[s],
-            tris,
-            s as u32,
-            first[s] + start as u32,
-            cull(&instances[s]),
-            outline,
-            place,
-        );
-    });
+    jobs.par_iter().zip(places).for_each(|(j, place)| setup().write_triangles(part(j), place));
     // SAFETY: every job wrote exactly the `count` triangles of its place (`write_triangles` panics
     // otherwise, and a panic ends the frame before this line), and the places tile the first `total` slots.
     unsafe { triangles.set_len(total) };

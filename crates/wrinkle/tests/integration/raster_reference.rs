@@ -7,7 +7,7 @@
 use crate::common::*;
 use glam::{Affine3A, DVec3, Quat, Vec3};
 use std::path::Path;
-use wrinkle::internals::{cover, grid, Cull, Mesh, SamplePattern, TileOffsets, TriangleSetup};
+use wrinkle::internals::{cover, grid, Cull, Mesh, ProjectedMesh, SamplePattern, TileOffsets, TriangleSetup};
 use wrinkle::Camera;
 use wrinkle::{render, Aovs, PixelFilter, Projection, RenderOptions, Sampler, Scene, Surface};
 
@@ -109,7 +109,9 @@ fn coverage(camera: &Camera, mesh: &Mesh, object_to_world: Affine3A, cull: bool,
     let vertices =
         setup.project_vertices(&mesh.positions, Some(&mesh.uvs), &(camera.world_to_camera * object_to_world));
     let cull = if cull { Cull::FacingAway { mirrored: false } } else { Cull::Nothing };
-    let triangles = setup.triangles_of(&vertices, &mesh.triangles, 0, 0, cull, None);
+    let part =
+        ProjectedMesh { vertices: &vertices, triangles: &mesh.triangles, surface: 0, first: 0, cull, outline: None };
+    let triangles = setup.triangles_of(part);
     let samples = TileOffsets::of(pattern, (0, 0, w, h));
     let mut count = vec![0u16; w * h * spp];
     for t in &triangles {
