@@ -8,6 +8,7 @@ use super::setup::{interpolate8, Interpolated8, ScreenTriangle};
 use super::SUBPIXEL;
 use crate::lanes::{F8, LANES};
 use glam::Vec2;
+use rayon::prelude::*;
 
 /// No triangle covers this sample.
 pub const EMPTY: u32 = u32::MAX;
@@ -26,25 +27,40 @@ impl Bins {
         Bins::of(triangles, width, height, tile_size, |_| true)
     }
 
-    /// The bins of the triangles that `keep` keeps (their indices still into all of `triangles`).
+    /// The bins of the triangles that `keep` keeps (their indices still into all of `triangles`). Large
+    /// sets are binned in parallel chunks whose bins are then joined tile by tile, in submission order.
     pub fn of(
         triangles: &[ScreenTriangle],
         width: usize,
         height: usize,
         tile_size: usize,
-        keep: impl Fn(&ScreenTriangle) -> bool,
+        keep: impl Fn(&ScreenTriangle) -> bool + Sync,
     ) -> Bins {
+        const CHUNK: usize = 1 << 16;
         let tiles_x = width.div_ceil(tile_size);
         let tiles_y = height.div_ceil(tile_size);
-        let mut bins = vec![Vec::new(); tiles_x * tiles_y];
-        for (i, t) in triangles.iter().enumerate().filter(|(_, t)| keep(t)) {
-            let [x0, y0, x1, y1] = t.bbox.map(|c| c as usize / tile_size);
-            for ty in y0..=y1 {
-                for tx in x0..=x1 {
-                    bins[ty * tiles_x + tx].push(i as u32);
+        let bin_chunk = |first: usize, chunk: &[ScreenTriangle]| {
+            let mut bins = vec![Vec::new(); tiles_x * tiles_y];
+            for (i, t) in chunk.iter().enumerate().filter(|(_, t)| keep(t)) {
+                let [x0, y0, x1, y1] = t.bbox.map(|c| c as usize / tile_size);
+                for ty in y0..=y1 {
+                    for tx in x0..=x1 {
+                        bins[ty * tiles_x + tx].push((first + i) as u32);
+                    }
                 }
             }
-        }
+            bins
+        };
+        let bins = if triangles.len() <= CHUNK {
+            bin_chunk(0, triangles)
+        } else {
+            let parts: Vec<Vec<Vec<u32>>> =
+                triangles.par_chunks(CHUNK).enumerate().map(|(c, chunk)| bin_chunk(c * CHUNK, chunk)).collect();
+            (0..tiles_x * tiles_y)
+                .into_par_iter()
+                .map(|tile| parts.iter().flat_map(|p| &p[tile]).copied().collect())
+                .collect()
+        };
         Bins { tile_size, tiles_x, tiles_y, bins }
     }
 }
@@ -405,6 +421,54 @@ mod tests {
     use crate::raster::setup::ProjectedMesh;
     use crate::raster::{Camera, Cull, Projection, TriangleSetup};
     use glam::{Affine3A, Vec3};
+
+    /// Binning in parallel chunks lists every tile's triangles as one pass in submission order does, `keep`
+    /// included: 200,000 boxes of every size, a third of them left out.
+    #[test]
+    fn parallel_binning_keeps_submission_order() {
+        let camera = Camera::new(
+            Vec3::new(0.0, 0.0, 5.0),
+            Vec3::ZERO,
+            Vec3::Y,
+            Projection::Perspective { fov_y: 40.0 },
+            640,
+            480,
+        );
+        let mut setup = TriangleSetup::new(&camera);
+        // Camera space: in front of the eye, along -z.
+        let positions = [Vec3::new(-1.0, -1.0, -5.0), Vec3::new(1.0, -1.0, -5.0), Vec3::new(0.0, 1.0, -5.0)];
+        let vertices = setup.project_vertices(&positions, None, &Affine3A::IDENTITY);
+        let mesh = ProjectedMesh {
+            vertices: &vertices,
+            triangles: &[[0, 1, 2]],
+            surface: 0,
+            first: 0,
+            cull: Cull::Nothing,
+            outline: None,
+        };
+        let one = setup.triangles_of(mesh).pop().expect("a triangle on screen");
+        let (w, h, tile) = (640usize, 480usize, 64usize);
+        let triangles: Vec<ScreenTriangle> = (0..200_000u32)
+            .map(|k| {
+                let x0 = (k.wrapping_mul(2_654_435_761) % w as u32) as i32;
+                let y0 = (k.wrapping_mul(40_503) % h as u32) as i32;
+                let size = (k % 7) as i32 * 40;
+                let bbox = [x0, y0, (x0 + size).min(w as i32 - 1), (y0 + size / 2).min(h as i32 - 1)];
+                ScreenTriangle { bbox, surface: k % 3, ..one.clone() }
+            })
+            .collect();
+        let bins = Bins::of(&triangles, w, h, tile, |t| t.surface != 1);
+        let tiles_x = w.div_ceil(tile);
+        let mut want = vec![Vec::new(); tiles_x * h.div_ceil(tile)];
+        for (i, t) in triangles.iter().enumerate().filter(|(_, t)| t.surface != 1) {
+            for ty in t.bbox[1] as usize / tile..=t.bbox[3] as usize / tile {
+                for tx in t.bbox[0] as usize / tile..=t.bbox[2] as usize / tile {
+                    want[ty * tiles_x + tx].push(i as u32);
+                }
+            }
+        }
+        assert!(bins.bins == want, "the parallel bins differ from one pass's");
+    }
 
     /// Both ways of peeling find the same fragments behind, to the bit: a fan of overlapping triangles at
     /// several depths, every fourth sample refused, at 1 and 16 stratified samples per pixel and 8 scrambled
