@@ -217,10 +217,7 @@ impl Rgba8Plane {
     pub fn decode8(&self, words: I8) -> [F8; 4] {
         #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
         {
-            match self.srgb {
-                true => decode8_avx2(self.decode, words),
-                false => decode8_linear_avx2(words),
-            }
+            decode8_avx2(self.decode, self.srgb, words)
         }
         #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
         {
@@ -232,10 +229,13 @@ impl Rgba8Plane {
     }
 }
 
-/// The colour channels through the decode table with three gathers (the table stays in L1), alpha scaled.
+/// The colour channels of sRGB texels through the decode table with three gathers (the table stays in L1);
+/// linear ones computed as the table holds them (code / 255, one correctly rounded division, so the same
+/// bits) without gathers, which are most of a linear texture's (a normal map's) tap on CPUs that issue them
+/// slowly. Alpha scaled.
 #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
 #[inline]
-fn decode8_avx2(table: &DecodeTable, words: I8) -> [F8; 4] {
+fn decode8_avx2(table: &DecodeTable, srgb: bool, words: I8) -> [F8; 4] {
     use std::arch::x86_64::*;
     // SAFETY: AVX2 is enabled at compile time (cfg above); every gather index is masked to 0..=255, inside
     // the table's colour entries; `__m256` and `F8` are both eight f32 lanes and `__m256i` and `I8` eight
@@ -244,33 +244,11 @@ fn decode8_avx2(table: &DecodeTable, words: I8) -> [F8; 4] {
         let v: __m256i = std::mem::transmute(words);
         let byte = _mm256_set1_epi32(0xFF);
         let channel = |c: __m256i| -> F8 {
-            std::mem::transmute(_mm256_i32gather_ps::<4>(table.as_ptr(), _mm256_and_si256(c, byte)))
-        };
-        let alpha = _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_srli_epi32::<24>(v)), _mm256_set1_ps(1.0 / 255.0));
-        [
-            channel(v),
-            channel(_mm256_srli_epi32::<8>(v)),
-            channel(_mm256_srli_epi32::<16>(v)),
-            std::mem::transmute::<__m256, F8>(alpha),
-        ]
-    }
-}
-
-/// Linear channels computed as the table holds them (code / 255, one correctly rounded division, so the
-/// same bits): no gathers, which are most of a linear texture's (a normal map's) tap on CPUs that issue them
-/// slowly.
-#[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
-#[inline]
-fn decode8_linear_avx2(words: I8) -> [F8; 4] {
-    use std::arch::x86_64::*;
-    // SAFETY: AVX2 is enabled at compile time (cfg above); `__m256` and `F8` are both eight f32 lanes and
-    // `__m256i` and `I8` eight i32, so the transmutes only rename.
-    unsafe {
-        let v: __m256i = std::mem::transmute(words);
-        let byte = _mm256_set1_epi32(0xFF);
-        let channel = |c: __m256i| -> F8 {
-            let code = _mm256_cvtepi32_ps(_mm256_and_si256(c, byte));
-            std::mem::transmute(_mm256_div_ps(code, _mm256_set1_ps(255.0)))
+            let code = _mm256_and_si256(c, byte);
+            std::mem::transmute(match srgb {
+                true => _mm256_i32gather_ps::<4>(table.as_ptr(), code),
+                false => _mm256_div_ps(_mm256_cvtepi32_ps(code), _mm256_set1_ps(255.0)),
+            })
         };
         let alpha = _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_srli_epi32::<24>(v)), _mm256_set1_ps(1.0 / 255.0));
         [
