@@ -52,6 +52,11 @@ impl Displacement {
         }
     }
 
+    /// Whether `threshold_at` reads the curvature (silhouette mode without a threshold of its own).
+    pub fn needs_curvature(&self) -> bool {
+        self.mode == DisplacementMode::Silhouette { threshold: None }
+    }
+
     /// `threshold_at` on eight lanes.
     #[inline]
     pub fn threshold8(&self, curvature: F8) -> F8 {

@@ -9,6 +9,7 @@ pub mod integrate;
 pub mod lean;
 pub mod normal_map;
 pub mod parallax;
+pub mod range;
 pub mod schlag;
 pub mod table;
 pub mod tangent_space;

@@ -14,6 +14,7 @@
 //! function shifted by half a step, which we do not copy so that nearest and bilinear agree at texel centres.
 
 use super::lean::{SlopeMoments, Spread};
+use super::range::Ranges;
 use super::Gradient;
 use crate::image::GreyImage;
 use crate::lanes::{gather, CmpEq, CmpGe, CmpGt, F8, I8, LANES};
@@ -22,7 +23,7 @@ use crate::texture::mip::{resample_changed, LevelRule, MipFilter, Resample, Span
 use crate::texture::reconstruct::Kernel;
 use crate::texture::texel::{Plane, TexelSource};
 use crate::texture::{bilinear_taps, wrap01, Footprint, Footprint8, Wrap};
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use std::sync::{Arc, OnceLock};
 
 /// How F is read from the table between texel centres.
@@ -48,6 +49,8 @@ pub struct BumpTable {
     largest: f32,
     /// The slopes' moments for LEAN and Toksvig filtering, built on first use.
     moments: OnceLock<SlopeMoments>,
+    /// Where the table is constant (for displacement's dicer), built on first use.
+    ranges: OnceLock<Ranges>,
 }
 
 impl BumpTable {
@@ -55,7 +58,12 @@ impl BumpTable {
     pub fn new(image: &GreyImage) -> Self {
         let base = Gradients(Arc::new(Plane::from_top_rows(image.width, image.height, &image.pixels)));
         let largest = image.pixels.iter().fold(0.0f32, |m, t| m.max(t.abs()));
-        BumpTable { data: Filterable::new(base, MipFilter::Box, [Wrap::Repeat; 2]), largest, moments: OnceLock::new() }
+        BumpTable {
+            data: Filterable::new(base, MipFilter::Box, [Wrap::Repeat; 2]),
+            largest,
+            moments: OnceLock::new(),
+            ranges: OnceLock::new(),
+        }
     }
 
     /// Replaces level 0's heights in columns `x0..x1` and rows `y0..y1` (row 0 at the top) with
@@ -85,6 +93,28 @@ impl BumpTable {
             span = resample_changed(src, Arc::make_mut(&mut after[0].0), &taps, span, |_, _, _| {});
         }
         self.moments = OnceLock::new();
+        self.ranges = OnceLock::new();
+    }
+
+    /// Whether the full-table lookups (nearest and bilinear) read one value all over the (s,t) box from
+    /// `lo` to `hi`: every texel whose taps reach into it is the same.
+    pub fn is_constant_over(&self, lo: Vec2, hi: Vec2) -> bool {
+        if !(lo.is_finite() && hi.is_finite()) {
+            return false;
+        }
+        let plane = &self.data.levels()[0].0;
+        let ranges = self.ranges.get_or_init(|| Ranges::of(plane.width, plane.height, &plane.texels));
+        // A bilinear lookup at s reads the texels either side of s W - 1/2 (one more each way, for the
+        // rounding of the lookup's own arithmetic); more than a whole period is all of it.
+        let taps = |lo: f32, hi: f32, n: usize| {
+            let n = n as f64;
+            let (a, b) = (f64::from(lo) * n - 0.5, f64::from(hi) * n - 0.5);
+            match b - a < n {
+                true => (a.floor() as i64 - 1, b.floor() as i64 + 2),
+                false => (0, n as i64),
+            }
+        };
+        ranges.is_constant(taps(lo.x, hi.x, plane.width), taps(lo.y, hi.y, plane.height))
     }
 
     /// The largest |T| in the table.

@@ -16,6 +16,10 @@ use rustc_hash::FxHashMap;
 /// The most cuts of one base edge.
 pub const MAX_RATE: u32 = 1024;
 
+/// How far (pixels) an uncut edge where F is uniform may stray from the surface: half the sag the base's
+/// own edges are allowed, so that an edge sagging that much, moved outwards, is cut in two.
+const OFFSET_SAG_PX: f32 = 0.125;
+
 /// A point of the base: its triangle and its barycentric weights on the triangle's three corners.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BasePoint {
@@ -34,6 +38,9 @@ pub struct DiceSample {
     pub height: f32,
     /// Why the surface here needs no dicing, as bits (`Skip`); an edge whose points share one is left whole.
     pub skip: u8,
+    /// For a point with reasons of facing (`Skip::FACING`): how far N.V may change (as the normal turns)
+    /// with all of them still holding; 0 without such reasons.
+    pub clearance: f32,
 }
 
 /// Reasons a point needs no dicing, as bits of `DiceSample::skip`.
@@ -49,6 +56,10 @@ impl Skip {
     pub const RIGHT: u8 = 8;
     pub const TOP: u8 = 16;
     pub const BOTTOM: u8 = 32;
+    /// The reasons that depend on which way the surface faces.
+    pub const FACING: u8 = Skip::FLAT | Skip::FACING_AWAY;
+    /// The reasons that depend on where the point is on the screen.
+    pub const OFF_SCREEN: u8 = Skip::LEFT | Skip::RIGHT | Skip::TOP | Skip::BOTTOM;
 }
 
 /// What the dicer reads of the surface under its base triangles.
@@ -58,6 +69,12 @@ pub trait DiceSurface: Sync {
     fn screen(&self, p: Vec3) -> Option<Vec2>;
     /// Screen pixels per object-space unit near an object-space point (0 behind the eye).
     fn pixels_per_unit(&self, p: Vec3) -> f32;
+    /// Whether F is certainly one value all over the part of the base spanned by `points` (an edge's ends,
+    /// a face's corners): there the surface moves only as far as its samples' heights differ (silhouette
+    /// mode's blend), and needs no cuts of its own for F. False where it cannot tell.
+    fn uniform(&self, _points: &[BasePoint]) -> bool {
+        false
+    }
 }
 
 /// How long a curve through `points` is on screen (pixels): measured on screen where all of them are in
@@ -166,8 +183,8 @@ struct Edges {
 impl Edges {
     /// Faces that are not `alive` have no edges (their `of_face` is unused).
     fn new(faces: &[Face], alive: &[bool], of: impl Fn(u32) -> u32) -> Edges {
-        let mut index: FxHashMap<EdgeKey, u32> =
-            FxHashMap::with_capacity_and_hasher(faces.len() * 2, Default::default());
+        let sides: usize = faces.iter().zip(alive).filter(|&(_, &alive)| alive).map(|(f, _)| f.sides as usize).sum();
+        let mut index: FxHashMap<EdgeKey, u32> = FxHashMap::with_capacity_and_hasher(sides, Default::default());
         let mut edges = Edges { of_face: Vec::with_capacity(faces.len()), ends: Vec::new(), users: Vec::new() };
         for (f, face) in faces.iter().enumerate() {
             let mut ids = [0; 4];
@@ -193,12 +210,13 @@ impl Edges {
 }
 
 /// The mean of samples of one point seen from several faces: the first one's point, the mean height and
-/// direction, and the reasons to skip it they all share.
+/// direction, and the reasons to skip it they all share, with the least clearance.
 fn mean(samples: impl Iterator<Item = DiceSample>) -> DiceSample {
     let (mut first, mut normal, mut height, mut count) = (None, Vec3::ZERO, 0.0, 0.0);
     for s in samples {
         let f = first.get_or_insert(s);
         f.skip &= s.skip;
+        f.clearance = f.clearance.min(s.clearance);
         normal += s.normal;
         height += s.height;
         count += 1.0;
@@ -236,8 +254,6 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
             distinct >= 3
         })
         .collect();
-    // Positions: welded vertices and welded edges, each sampled from every face around it.
-    let welded_edges = Edges::new(faces, &alive, weld);
     // The faces around each welded vertex, as (face, corner within it): vertex w's are
     // `users[starts[w]..starts[w + 1]]`.
     let mut starts = vec![0u32; base.welded + 1];
@@ -264,7 +280,7 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
         .map(|users| {
             if users.is_empty() {
                 // Only on faces left out: never a vertex of the result.
-                return DiceSample { p: Vec3::ZERO, normal: Vec3::ZERO, height: 0.0, skip: 0 };
+                return DiceSample { p: Vec3::ZERO, normal: Vec3::ZERO, height: 0.0, skip: 0, clearance: 0.0 };
             }
             // Users at the same vertex of the base see the same point: one sample serves them all.
             let mut seen: Vec<u32> = Vec::with_capacity(2);
@@ -278,35 +294,79 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
             }))
         })
         .collect();
-    let rates: Vec<u32> = welded_edges
+    // Faces left whole by their corners alone go straight to the output; only the others (the band that
+    // is diced, and its neighbours) have their edges numbered, measured and cut.
+    let whole: Vec<bool> = faces
+        .par_iter()
+        .zip(&alive)
+        .map(|(face, &alive)| {
+            let at = |k: usize| &corners[weld(face.corners[k]) as usize];
+            alive && is_whole(&[at(0), at(1), at(2), at(3)][..face.sides as usize])
+        })
+        .collect();
+    let cut: Vec<bool> = alive.iter().zip(&whole).map(|(&alive, &whole)| alive && !whole).collect();
+    let mut on_whole = vec![false; base.welded];
+    for (face, _) in faces.iter().zip(&whole).filter(|&(_, &whole)| whole) {
+        for k in 0..face.sides as usize {
+            on_whole[weld(face.corner(k)) as usize] = true;
+        }
+    }
+    // Positions: welded vertices and welded edges, each sampled from every face around it.
+    let welded_edges = Edges::new(faces, &cut, weld);
+    let rate_of = |px: f32| if px.is_finite() { (px / edge_px).ceil().clamp(1.0, MAX_RATE as f32) as u32 } else { 1 };
+    // Per welded edge, the cuts it gets, and the cuts it would get if F varied along it (what a face across
+    // which F varies takes).
+    let rates: Vec<(u32, u32)> = welded_edges
         .ends
         .par_iter()
         .zip(&welded_edges.users)
         .map(|(&(a, b), &[(f, k), _])| {
-            let (a, b) = (&corners[a as usize], &corners[b as usize]);
-            let mid = surface.sample(faces[f as usize].on_edge(k, 0.5));
+            let (sa, sb) = (&corners[a as usize], &corners[b as usize]);
+            // An edge that a whole face may share keeps its ends alone, as the whole face does.
+            if sa.skip & sb.skip != 0 && on_whole[a as usize] && on_whole[b as usize] {
+                return (1, 1);
+            }
+            let (a, b) = (sa, sb);
+            let face = &faces[f as usize];
+            let mid = surface.sample(face.on_edge(k, 0.5));
             // All three off the same side of the screen, all facing away, or all flat: the faces on both
             // sides are left whole along it (a face whose edges are all out on one side lies out there).
             if a.skip & b.skip & mid.skip != 0 {
-                return 1;
+                return (1, 1);
             }
             // On screen, so that edges seen edge-on (near the outline, where silhouette mode dices) are cut
             // as finely as they show, not as long as they are.
             let along = screen_length(surface, &[a.p, mid.p, b.p]);
             let chord = screen_length(surface, &[displaced(a), displaced(b)]);
-            let px = along.max(chord) / edge_px;
-            if px.is_finite() {
-                (px.ceil() as u32).clamp(1, MAX_RATE)
-            } else {
-                1
+            let full = rate_of(along.max(chord));
+            // Where F is one value the edge is the base's, moved: cut only as far as its ends move apart
+            // and as its middle strays from their chord (a chord sags by a quarter for each halving).
+            if !surface.uniform(&[face.at_corner(k), face.on_edge(k, 1.0)]) {
+                return (full, full);
             }
+            let (da, db) = (displaced(a), displaced(b));
+            let sag = screen_length(surface, &[displaced(&mid), 0.5 * (da + db)]);
+            let apart = rate_of((a.height - b.height).abs() * surface.pixels_per_unit(mid.p));
+            let bend = (sag / OFFSET_SAG_PX).sqrt().ceil();
+            let bend = if bend.is_finite() { bend.clamp(1.0, MAX_RATE as f32) as u32 } else { 1 };
+            (apart.max(bend).min(full), full)
         })
         .collect();
     let grids: Vec<(u32, u32)> = faces
-        .iter()
+        .par_iter()
         .zip(&welded_edges.of_face)
-        .zip(&alive)
-        .map(|((face, e), &alive)| if alive { grid_of(face, e.map(|e| rates[e as usize])) } else { (0, 0) })
+        .zip(alive.par_iter().zip(&whole))
+        .map(|((face, e), (&alive, &whole))| match (alive, whole) {
+            (false, _) => (0, 0),
+            (true, true) => (1, 1),
+            (true, false) => {
+                let corners = [0, 1, 2, 3].map(|k| face.at_corner(k));
+                match surface.uniform(&corners[..face.sides as usize]) {
+                    true => grid_of(face, e.map(|e| rates[e as usize].0)),
+                    false => grid_of(face, e.map(|e| rates[e as usize].1)),
+                }
+            }
+        })
         .collect();
     let count: u64 = faces
         .iter()
@@ -322,7 +382,7 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
         .par_iter()
         .zip(&welded_edges.users)
         .zip(&rates)
-        .map(|((&(a, _), users), &rate)| {
+        .map(|((&(a, _), users), &(rate, _))| {
             (1..rate)
                 .map(|j| {
                     let s = j as f32 / rate as f32;
@@ -345,12 +405,15 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
         .collect();
     // Vertices: the base's own (at their welded position), then the points of its own edges, then each
     // face's inner points.
-    let edges = Edges::new(faces, &alive, |v| v);
-    let mut diced = Diced::default();
-    for v in 0..base.weld.len() {
-        diced.positions.push(displaced(&corners[weld(v as u32) as usize]));
-    }
-    diced.sources = vec![BasePoint { triangle: 0, bary: [1.0, 0.0, 0.0] }; base.weld.len()];
+    let edges = Edges::new(faces, &cut, |v| v);
+    let mut diced = Diced {
+        positions: Vec::with_capacity(count as usize),
+        sources: Vec::with_capacity(count as usize),
+        triangles: Vec::with_capacity(count as usize),
+        origins: Vec::with_capacity(count as usize),
+    };
+    diced.positions.extend((0..base.weld.len()).map(|v| displaced(&corners[weld(v as u32) as usize])));
+    diced.sources.resize(base.weld.len(), BasePoint { triangle: 0, bary: [1.0, 0.0, 0.0] });
     for (face, _) in faces.iter().zip(&alive).filter(|(_, &alive)| alive) {
         for k in 0..face.sides {
             diced.sources[face.corner(k as usize) as usize] = face.at_corner(k);
@@ -366,7 +429,7 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
         // This edge runs from vertex a; the welded points run from the smaller welded end.
         let same_way = weld(a) == welded_edges.ends[w].0 || weld(a) == weld(b);
         let forward = face.corner(k as usize) == a;
-        let rate = rates[w];
+        let rate = rates[w].0;
         for j in 1..rate {
             let s = j as f32 / rate as f32;
             diced.positions.push(points[if same_way { j - 1 } else { rate - j - 1 } as usize]);
@@ -377,13 +440,11 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
     let shared = &diced.positions;
     // Each face's inner points, where they come from, and its triangles.
     type FacePart = (Vec<Vec3>, Vec<BasePoint>, Vec<[u32; 3]>);
-    let parts: Vec<FacePart> = (0..faces.len())
-        .into_par_iter()
-        .map(|f| {
+    let cut_faces: Vec<usize> = (0..faces.len()).filter(|&f| cut[f]).collect();
+    let parts: Vec<FacePart> = cut_faces
+        .par_iter()
+        .map(|&f| {
             let (n, m) = grids[f];
-            if n == 0 {
-                return Default::default();
-            }
             let face = &faces[f];
             let (own, welded) = (edges.of_face[f], welded_edges.of_face[f]);
             let quad = face.sides == 4;
@@ -412,7 +473,7 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
                             k,
                             s,
                             of,
-                            rates[welded[k] as usize],
+                            rates[welded[k] as usize].0,
                             edges.ends[own[k] as usize],
                             edge_first[own[k] as usize],
                         ),
@@ -429,10 +490,8 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
             let id = |i: u32, j: u32| ids[starts[j as usize] + i as usize];
             let position = |v: u32| if v > u32::MAX / 2 { points[(u32::MAX - v) as usize] } else { shared[v as usize] };
             let mut out = Vec::with_capacity((2 * n * m) as usize);
-            // Cells whose corners snapped together (or lie at one welded point, as at a pole) are dropped.
             let mut push = |c: [u32; 3]| {
-                let [a, b, c2] = c.map(|v| position(v).to_array().map(f32::to_bits));
-                if a != b && b != c2 && c2 != a {
+                if !collapsed(c.map(position)) {
                     out.push(c);
                 }
             };
@@ -457,7 +516,21 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
             (points, sources, out)
         })
         .collect();
-    for (f, (points, sources, triangles)) in parts.into_iter().enumerate() {
+    let mut parts = parts.into_iter();
+    for (f, face) in faces.iter().enumerate() {
+        if whole[f] {
+            let c = face.corners;
+            let halves =
+                if face.sides == 3 { &[[c[0], c[1], c[2]]][..] } else { &[[c[0], c[1], c[2]], [c[0], c[2], c[3]]] };
+            for &t in halves.iter().filter(|t| !collapsed(t.map(|v| diced.positions[v as usize]))) {
+                diced.triangles.push(t);
+                diced.origins.push(f as u32);
+            }
+        }
+        if !cut[f] {
+            continue;
+        }
+        let (points, sources, triangles) = parts.next().expect("one part per face cut");
         let first = diced.positions.len() as u32;
         diced.positions.extend(points);
         diced.sources.extend(sources);
@@ -466,6 +539,36 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
         diced.triangles.extend(triangles.into_iter().map(|c| c.map(renumber)));
     }
     Ok(diced)
+}
+
+/// Whether a triangle's corners are not three distinct points (corners snapped together, or at one welded
+/// point as at a pole): it covers nothing and is dropped.
+fn collapsed(corners: [Vec3; 3]) -> bool {
+    let [a, b, c] = corners.map(|p| p.to_array().map(f32::to_bits));
+    a == b || b == c || c == a
+}
+
+/// Whether a face whose corners' samples are `corners` is left whole without looking between them: they
+/// share a side of the screen they lie beyond, or a reason of facing that holds all over the face. The
+/// normals inside a face lie about among its corners' ones, and the direction to the eye turns far less
+/// across one face than the normal does near an outline; twice the corners' largest difference of normal
+/// bounds how much N.V changes over the face.
+fn is_whole(corners: &[&DiceSample]) -> bool {
+    let shared = corners.iter().fold(u8::MAX, |s, c| s & c.skip);
+    if shared & Skip::OFF_SCREEN != 0 {
+        return true;
+    }
+    if shared & Skip::FACING == 0 {
+        return false;
+    }
+    let clearance = corners.iter().map(|c| c.clearance).fold(f32::INFINITY, f32::min);
+    let mut spread = 0.0f32;
+    for (k, a) in corners.iter().enumerate() {
+        for b in &corners[k + 1..] {
+            spread = spread.max(a.normal.distance(b.normal));
+        }
+    }
+    2.0 * spread < clearance
 }
 
 /// The vertex that grid point `s` of `n` along edge `k` of `face` snaps to: one of the edge's
@@ -544,13 +647,22 @@ mod tests {
     use crate::geometry::Surface;
 
     /// A surface under a base mesh: points interpolated on the flat base triangles, heights from a function
-    /// of the position, and a screen scale that makes rates vary from edge to edge.
+    /// of the position, and a screen scale that makes rates vary from edge to edge; optionally a region
+    /// left flat (not displaced, faces there left whole) and one where the height is uniform.
     struct Flat<'a> {
         surface: &'a Surface,
         positions: &'a [Vec3],
         triangles: &'a [[u32; 3]],
         height: fn(Vec3) -> f32,
         ppu: fn(Vec3) -> f32,
+        regions: Option<Regions>,
+    }
+
+    /// Where a test surface is flat, and where its height is uniform (decided by the base point's position).
+    #[derive(Clone, Copy)]
+    struct Regions {
+        flat: fn(Vec3) -> bool,
+        uniform: fn(Vec3) -> bool,
     }
 
     /// The outward direction at a point near a unit sphere at the origin or a torus of major radius 1
@@ -566,13 +678,24 @@ mod tests {
         fn outward(&self, p: Vec3) -> Vec3 {
             outward(self.surface, p)
         }
+
+        fn at(&self, at: BasePoint) -> Vec3 {
+            interpolate(self.triangles[at.triangle as usize].map(|v| self.positions[v as usize]), at.bary)
+        }
     }
 
     impl DiceSurface for Flat<'_> {
         fn sample(&self, at: BasePoint) -> DiceSample {
-            let c = self.triangles[at.triangle as usize].map(|v| self.positions[v as usize]);
-            let p = interpolate(c, at.bary);
-            DiceSample { p, normal: self.outward(p), height: (self.height)(p), skip: 0 }
+            let p = self.at(at);
+            match self.regions {
+                Some(r) if (r.flat)(p) => {
+                    DiceSample { p, normal: self.outward(p), height: 0.0, skip: Skip::FLAT, clearance: 10.0 }
+                }
+                _ => DiceSample { p, normal: self.outward(p), height: (self.height)(p), skip: 0, clearance: 0.0 },
+            }
+        }
+        fn uniform(&self, points: &[BasePoint]) -> bool {
+            self.regions.is_some_and(|r| points.iter().all(|&at| (r.uniform)(self.at(at))))
         }
         fn screen(&self, p: Vec3) -> Option<Vec2> {
             Some(p.truncate() * (self.ppu)(p))
@@ -605,14 +728,29 @@ mod tests {
             })
             .collect();
         let rates: [fn(Vec3) -> f32; 3] = [|_| 3.0, |p| 2.0 + 30.0 * (p.x + 1.0), |p| 3.0 * (p.z + 1.1).powi(3)];
-        for (faces, are_triangles) in [(&triangles, true), (&quads, false)] {
+        // Faces left whole where x is not within 0.1 of 0.25 (some of them across that band, which their
+        // corners miss), cut only as the height moves where z < 0, beside faces cut in full.
+        let regions = Regions { flat: |p| (p.x - 0.25).abs() > 0.1, uniform: |p| p.z < -1e-3 };
+        let combinations =
+            [(&triangles, true), (&quads, false)].into_iter().flat_map(|f| [(f, None), (f, Some(regions))]);
+        for ((faces, are_triangles), regions) in combinations {
             for ppu in rates {
                 // On the torus the base is left flat, so that which way a triangle turns is the dicing's doing.
-                let height: fn(Vec3) -> f32 = if poles { |p| 0.1 * (5.0 * p.x).sin() } else { |_| 0.0 };
-                let flat = Flat { surface, positions: &m.positions, triangles: &m.triangles, height, ppu };
+                let height: fn(Vec3) -> f32 = match (poles, regions.is_some()) {
+                    (false, _) => |_| 0.0,
+                    (true, false) => |p| 0.1 * (5.0 * p.x).sin(),
+                    (true, true) => |p| if p.z < 0.0 { 0.05 } else { 0.1 * (5.0 * p.x).sin() },
+                };
+                let flat = Flat { surface, positions: &m.positions, triangles: &m.triangles, height, ppu, regions };
                 let base = Base { faces, weld: &weld_of, welded };
                 let d = dice(&base, &flat, 1.0, 1 << 24).unwrap();
-                assert!(d.triangles.len() > 2 * faces.len());
+                let mut pieces = vec![0usize; faces.len()];
+                d.origins.iter().for_each(|&f| pieces[f as usize] += 1);
+                match regions {
+                    None => assert!(d.triangles.len() > 2 * faces.len()),
+                    // Both kinds side by side.
+                    Some(_) => assert!(pieces.iter().any(|&n| n <= 2) && pieces.iter().any(|&n| n >= 3), "{pieces:?}"),
+                }
                 let mut area = vec![0.0f64; faces.len()];
                 for (tri, &f) in d.triangles.iter().zip(&d.origins) {
                     let [a, b, c] = tri.map(|v| d.positions[v as usize]);

@@ -103,6 +103,14 @@ impl Surface {
         }
     }
 
+    /// The largest principal curvature where it is the same everywhere: a sphere's and a cylinder's 1/r.
+    pub fn constant_curvature(&self) -> Option<f32> {
+        match *self {
+            Surface::Sphere { radius } | Surface::Cylinder { radius, .. } => Some(1.0 / radius.abs()),
+            _ => None,
+        }
+    }
+
     /// Whether P is affine in (u,v) (a flat parallelogram): two triangles then carry (u,v) exactly.
     pub fn is_parallelogram(&self) -> bool {
         match self {

@@ -7,7 +7,7 @@
 //! patches that meet are cut at the same points. A mesh's base is its own triangles.
 
 use super::{SAG_PX, SEGMENT_PX};
-use crate::bump::Displacement;
+use crate::bump::{BumpSource, Displacement};
 use crate::geometry::dice::{dice, interpolate, weld, Base, BasePoint, DiceSample, DiceSurface, Diced, Face, Skip};
 use crate::geometry::tessellate::{grid, segments_for, Mesh};
 use crate::geometry::{Instance, Primitive, Surface, TriangleMesh};
@@ -15,9 +15,11 @@ use crate::limits::Limit;
 use crate::raster::camera::NEAR;
 use crate::raster::Camera;
 use crate::shade::Material;
+use crate::texture::filter::Filter;
 use crate::texture::{Footprint, LookupContext};
 use crate::{Error, Result};
 use glam::{Affine3A, Mat3, Vec2, Vec3, Vec4};
+use rayon::prelude::*;
 use std::sync::Arc;
 
 /// Dices every displaced object of the frame. A displaced mesh's instance gets its diced mesh as its
@@ -166,7 +168,7 @@ fn displace_object(
             Limit::Triangles.hint()
         ))
     })?;
-    for (k, part) in d.split(&diced).into_iter().enumerate() {
+    for (k, part) in d.split(diced).into_iter().enumerate() {
         let i = members[k];
         match (&d.parts[k].surface, part) {
             (Some(_), Split::Grid(g)) => grids[i] = Some(g),
@@ -186,7 +188,10 @@ enum Split {
 impl Displacing<'_> {
     /// The diced surface cut back into its primitives, each with its vertices' attributes interpolated
     /// from its base.
-    fn split(&self, diced: &Diced) -> Vec<Split> {
+    fn split(&self, diced: Diced) -> Vec<Split> {
+        if let [part] = &self.parts[..] {
+            return vec![self.part(part, diced.positions, diced.sources, diced.triangles)];
+        }
         let part_of_vertex: Vec<u32> = diced.sources.iter().map(|s| self.part_of[s.triangle as usize]).collect();
         let mut local = vec![0u32; diced.positions.len()];
         let mut vertices: Vec<Vec<u32>> = vec![Vec::new(); self.parts.len()];
@@ -204,20 +209,25 @@ impl Displacing<'_> {
             .zip(vertices)
             .zip(triangles)
             .map(|((part, vertices), triangles)| {
-                let positions: Vec<Vec3> = vertices.iter().map(|&v| diced.positions[v as usize]).collect();
-                let sources = vertices.iter().map(|&v| diced.sources[v as usize]);
-                match &part.mesh {
-                    None => Split::Grid(Mesh {
-                        segments: (0, 0),
-                        wraps: (false, false),
-                        positions,
-                        uvs: sources.map(|s| interpolate(self.corners(s, &self.uvs), s.bary)).collect(),
-                        triangles,
-                    }),
-                    Some(mesh) => Split::Mesh(self.mesh_part(mesh, part, positions, sources.collect(), triangles)),
-                }
+                let positions = vertices.iter().map(|&v| diced.positions[v as usize]).collect();
+                let sources = vertices.iter().map(|&v| diced.sources[v as usize]).collect();
+                self.part(part, positions, sources, triangles)
             })
             .collect()
+    }
+
+    /// One primitive's diced triangles over its vertices, with the base points they come from.
+    fn part(&self, part: &Part, positions: Vec<Vec3>, sources: Vec<BasePoint>, triangles: Vec<[u32; 3]>) -> Split {
+        match &part.mesh {
+            None => Split::Grid(Mesh {
+                segments: (0, 0),
+                wraps: (false, false),
+                positions,
+                uvs: sources.par_iter().map(|&s| interpolate(self.corners(s, &self.uvs), s.bary)).collect(),
+                triangles,
+            }),
+            Some(mesh) => Split::Mesh(self.mesh_part(mesh, part, positions, sources, triangles)),
+        }
     }
 
     /// A diced mesh: displaced positions, and normals, texture coordinates and tangents interpolated on the
@@ -263,7 +273,9 @@ impl DiceSurface for Displacing<'_> {
         let (p, normal, pu, pv, curvature) = match &part.surface {
             Some(surface) => {
                 let f = surface.frame(uv.x, uv.y);
-                (f.p, f.limit_normal(), f.pu, f.pv, f.max_curvature())
+                let curvature = || surface.constant_curvature().unwrap_or_else(|| f.max_curvature());
+                let curvature = if part.displacement.needs_curvature() { curvature() } else { f32::INFINITY };
+                (f.p, f.limit_normal(), f.pu, f.pv, curvature)
             }
             None => {
                 let [a, b, c] = self.corners(at, &self.positions);
@@ -274,14 +286,17 @@ impl DiceSurface for Displacing<'_> {
         };
         let facing = self.facing(p, normal);
         let displacement = part.displacement;
-        let w = displacement.weight(facing.abs(), displacement.threshold_at(curvature));
-        let mut skip = 0;
+        let threshold = displacement.threshold_at(curvature);
+        let w = displacement.weight(facing.abs(), threshold);
+        let (mut skip, mut clearance) = (0, f32::INFINITY);
         if part.culled && facing < FACING_AWAY {
             skip |= Skip::FACING_AWAY;
+            clearance = FACING_AWAY - facing;
         }
         let height = match w {
             0.0 => {
                 skip |= Skip::FLAT;
+                clearance = clearance.min(facing.abs() - threshold);
                 0.0
             }
             // F filtered to what one diced edge can show.
@@ -294,7 +309,8 @@ impl DiceSurface for Displacing<'_> {
             }
         };
         skip |= self.off_screen(p, height.abs());
-        DiceSample { p, normal, height, skip }
+        let clearance = if skip & Skip::FACING != 0 { clearance } else { 0.0 };
+        DiceSample { p, normal, height, skip, clearance }
     }
 
     fn screen(&self, p: Vec3) -> Option<Vec2> {
@@ -304,6 +320,24 @@ impl DiceSurface for Displacing<'_> {
 
     fn pixels_per_unit(&self, p: Vec3) -> f32 {
         self.camera.pixels_per_unit(self.object_to_world.transform_point3(p)) * self.stretch
+    }
+
+    /// Told by a table read on its own (u,v) (the uv transform is affine, so the table coordinates of the
+    /// base between the points lie within their box) by nearest or bilinear lookups, whose every tap
+    /// within the box holds one value.
+    fn uniform(&self, points: &[BasePoint]) -> bool {
+        let part = &self.parts[self.part_of[points[0].triangle as usize] as usize];
+        let map = &part.displacement.map;
+        let (BumpSource::Table(table), Some(_), Filter::Reconstruct(_)) =
+            (&map.source, map.mapping.constant_jacobian(), map.filter.filter)
+        else {
+            return false;
+        };
+        let (lo, hi) = points
+            .iter()
+            .map(|at| map.mapping.transform.point(interpolate(self.corners(*at, &self.uvs), at.bary)))
+            .fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), st| (lo.min(st), hi.max(st)));
+        table.is_constant_over(lo, hi)
     }
 }
 

@@ -16,7 +16,7 @@ use crate::bump::{BumpFilter, BumpFormula, BumpMap, DisplacementMode, SlopeFilte
 use crate::envmap::Environment;
 use crate::geometry::frame_lanes::Frame8;
 use crate::geometry::mesh_lanes::MeshFrame8;
-use crate::geometry::Instance;
+use crate::geometry::{Instance, Primitive};
 use crate::lanes::{CmpGt, CmpLt, F8, LANES, V3};
 use crate::light::{Light, ShadowMap, Shadows, Spot};
 use crate::texture::{FilterOptions, FilteredTexture, Footprint, Footprint8, LookupContext8, SurfaceLanes, UvSet8};
@@ -344,7 +344,11 @@ impl ShadeContext<'_> {
                         None => (V3::splat(self.eye) - position).normalize_or_zero(),
                     };
                     let facing = V3::mul_mat3(&inst.normal_matrix, n_unit).normalize_or_zero().dot(to_eye).abs();
-                    let threshold = d.threshold8(frame.max_curvature8());
+                    let constant = match &inst.primitive {
+                        Primitive::Parametric(s) => s.constant_curvature(),
+                        Primitive::Mesh(_) => None,
+                    };
+                    let threshold = d.threshold8(constant.map_or_else(|| frame.max_curvature8(), F8::splat));
                     d.weight8(facing, threshold)
                 }
             };
