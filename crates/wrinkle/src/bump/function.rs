@@ -199,6 +199,18 @@ impl BumpMap {
         ([g(|g| g.f), g(|g| g.fu), g(|g| g.fv)], [c(|c| c.xx), c(|c| c.yy), c(|c| c.xy)])
     }
 
+    /// F alone at one sample (a displacement's): `eval`'s F, a table's without its derivatives.
+    #[inline]
+    pub fn height(&self, ctx: &LookupContext, filter: &FilterOptions) -> f32 {
+        match &self.source {
+            BumpSource::Table(table) => {
+                let mapped = self.mapping.apply(ctx);
+                self.scale * table.height_at(mapped.uv.x, mapped.uv.y, &mapped.footprint, filter)
+            }
+            _ => self.eval(ctx, filter).f,
+        }
+    }
+
     /// F alone on eight lanes (a parallax march's reads): a table through the surface's (u,v) on the lanes
     /// without its derivatives, anything else as `eval8`.
     #[inline(always)]

@@ -203,6 +203,15 @@ impl BumpTable {
         }
     }
 
+    /// F alone at (s,t): `lookup`'s F without its derivatives where the filter reads the full table.
+    pub fn height_at(&self, s: f32, t: f32, fp: &Footprint, opts: &FilterOptions) -> f32 {
+        match opts.filter {
+            Filter::Reconstruct(Kernel::Nearest) => self.data.levels()[0].height(s, t, Interp::Nearest),
+            Filter::Reconstruct(Kernel::Bilinear) => self.data.levels()[0].height(s, t, Interp::Bilinear),
+            _ => self.lookup(s, t, fp, opts).f,
+        }
+    }
+
     /// F alone at eight (s,t) (what a parallax march reads at each step): the bilinear full-table FVAL from
     /// its four taps on the lanes, every other filter through `lookup8`.
     #[inline]
@@ -284,6 +293,24 @@ impl Gradients {
     #[inline]
     fn at(&self, i: usize, j: usize) -> f32 {
         self.0.texels[j * self.0.width + i]
+    }
+
+    /// T alone at (s,t): `lookup`'s first value, by the same arithmetic, without the neighbours the
+    /// derivatives read.
+    fn height(&self, s: f32, t: f32, interp: Interp) -> f32 {
+        let (w, h) = (self.0.width, self.0.height);
+        match interp {
+            Interp::Nearest => {
+                self.at(((wrap01(s) * w as f32) as usize).min(w - 1), ((wrap01(t) * h as f32) as usize).min(h - 1))
+            }
+            Interp::Bilinear => {
+                let (i0, i1, fx) = bilinear_taps(s, w);
+                let (j0, j1, fy) = bilinear_taps(t, h);
+                let (a, b, c, d) = (self.at(i0, j0), self.at(i1, j0), self.at(i0, j1), self.at(i1, j1));
+                let bottom = a + fx * (b - a);
+                bottom + fy * (c + fx * (d - c) - bottom)
+            }
+        }
     }
 
     /// (T, dT/ds, dT/dt) at (s,t). The derivatives are Blinn's central differences with E = one step,

@@ -28,7 +28,7 @@ pub struct BasePoint {
 }
 
 /// The surface under the base at one point, as the dicer needs it.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 pub struct DiceSample {
     /// The undisplaced point (object space).
     pub p: Vec3,
@@ -65,6 +65,12 @@ impl Skip {
 /// What the dicer reads of the surface under its base triangles.
 pub trait DiceSurface: Sync {
     fn sample(&self, at: BasePoint) -> DiceSample;
+    /// `sample` at each of `at`, into `out` (as long): a surface may sample several points together.
+    fn sample_into(&self, at: &[BasePoint], out: &mut [DiceSample]) {
+        for (out, &at) in out.iter_mut().zip(at) {
+            *out = self.sample(at);
+        }
+    }
     /// Where an object-space point lands on the screen (pixels), if it is in front of the eye.
     fn screen(&self, p: Vec3) -> Option<Vec2>;
     /// Screen pixels per object-space unit near an object-space point (0 behind the eye).
@@ -79,15 +85,17 @@ pub trait DiceSurface: Sync {
 
 /// How long a curve through `points` is on screen (pixels): measured on screen where all of them are in
 /// front of the eye, else in the object at the largest scale of those that are.
+/// At most three points.
 fn screen_length(surface: &impl DiceSurface, points: &[Vec3]) -> f32 {
-    let on_screen: Option<Vec<Vec2>> = points.iter().map(|&p| surface.screen(p)).collect();
-    match on_screen {
-        Some(s) => s.windows(2).map(|w| w[0].distance(w[1])).sum(),
-        None => {
-            let ppu = points.iter().map(|&p| surface.pixels_per_unit(p)).fold(0.0, f32::max);
-            points.windows(2).map(|w| w[0].distance(w[1])).sum::<f32>() * ppu
-        }
+    debug_assert!(points.len() <= 3);
+    let mut on_screen = [Vec2::ZERO; 3];
+    let seen = points.iter().zip(&mut on_screen).all(|(&p, s)| surface.screen(p).map(|at| *s = at).is_some());
+    let length = |v: &[Vec2]| v.windows(2).map(|w| w[0].distance(w[1])).sum::<f32>();
+    if seen {
+        return length(&on_screen[..points.len()]);
     }
+    let ppu = points.iter().map(|&p| surface.pixels_per_unit(p)).fold(0.0, f32::max);
+    points.windows(2).map(|w| w[0].distance(w[1])).sum::<f32>() * ppu
 }
 
 /// The base to dice: faces over vertices, each vertex also known by its welded number.
@@ -122,8 +130,10 @@ impl Face {
         Face { corners, sides: 4, triangle: first_triangle }
     }
 
+    /// Corner `k` (`sides` is corner 0 again).
     fn corner(&self, k: usize) -> u32 {
-        self.corners[k % self.sides as usize]
+        let sides = self.sides as usize;
+        self.corners[if k >= sides { k - sides } else { k }]
     }
 
     /// The base point at (s, t): a triangle's point with weights (1 - s - t, s, t) on its corners; a quad's
@@ -181,29 +191,31 @@ struct Edges {
 }
 
 impl Edges {
-    /// Faces that are not `alive` have no edges (their `of_face` is unused).
-    fn new(faces: &[Face], alive: &[bool], of: impl Fn(u32) -> u32) -> Edges {
-        let sides: usize = faces.iter().zip(alive).filter(|&(_, &alive)| alive).map(|(f, _)| f.sides as usize).sum();
+    /// The edges of faces `chosen` (ascending); the other faces have none (their `of_face` is unused).
+    fn new(faces: &[Face], chosen: &[usize], of: impl Fn(u32) -> u32) -> Edges {
+        let sides = 4 * chosen.len();
         let mut index: FxHashMap<EdgeKey, u32> = FxHashMap::with_capacity_and_hasher(sides, Default::default());
-        let mut edges = Edges { of_face: Vec::with_capacity(faces.len()), ends: Vec::new(), users: Vec::new() };
-        for (f, face) in faces.iter().enumerate() {
-            let mut ids = [0; 4];
-            if alive[f] {
-                for (k, id) in ids.iter_mut().enumerate().take(face.sides as usize) {
-                    let ends = key(of(face.corner(k)), of(face.corner(k + 1)));
-                    let user = (f as u32, k as u8);
-                    *id = *index.entry(ends).or_insert_with(|| {
-                        edges.ends.push(ends);
-                        edges.users.push([user; 2]);
-                        edges.ends.len() as u32 - 1
-                    });
-                    let users = &mut edges.users[*id as usize];
-                    if users[0] != user {
-                        users[1] = user;
-                    }
+        let mut edges = Edges {
+            of_face: vec![[0; 4]; faces.len()],
+            ends: Vec::with_capacity(sides),
+            users: Vec::with_capacity(sides),
+        };
+        for &f in chosen {
+            let face = &faces[f];
+            for k in 0..face.sides as usize {
+                let ends = key(of(face.corner(k)), of(face.corner(k + 1)));
+                let user = (f as u32, k as u8);
+                let id = *index.entry(ends).or_insert_with(|| {
+                    edges.ends.push(ends);
+                    edges.users.push([user; 2]);
+                    edges.ends.len() as u32 - 1
+                });
+                edges.of_face[f][k] = id;
+                let users = &mut edges.users[id as usize];
+                if users[0] != user {
+                    users[1] = user;
                 }
             }
-            edges.of_face.push(ids);
         }
         edges
     }
@@ -249,7 +261,7 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
     let alive: Vec<bool> = faces
         .iter()
         .map(|f| {
-            let w: Vec<u32> = (0..f.sides as usize).map(|k| weld(f.corner(k))).collect();
+            let w = &f.corners.map(weld)[..f.sides as usize];
             let distinct = (0..w.len()).filter(|&k| !w[..k].contains(&w[k])).count();
             distinct >= 3
         })
@@ -274,25 +286,26 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
             next[w] += 1;
         }
     }
-    let corners: Vec<DiceSample> = starts
-        .par_windows(2)
-        .map(|range| &users[range[0] as usize..range[1] as usize])
-        .map(|users| {
-            if users.is_empty() {
-                // Only on faces left out: never a vertex of the result.
-                return DiceSample { p: Vec3::ZERO, normal: Vec3::ZERO, height: 0.0, skip: 0, clearance: 0.0 };
+    // Each welded vertex is sampled once at each base vertex among its faces' corners (users at the same
+    // base vertex see the same point); vertex w's samples are `seen[first[w]..first[w + 1]]`.
+    let own = |&(f, k): &(u32, u8)| faces[f as usize].corner(k as usize);
+    let mut first = Vec::with_capacity(base.welded + 1);
+    let mut points = Vec::with_capacity(users.len());
+    for range in starts.windows(2) {
+        first.push(points.len());
+        let users = &users[range[0] as usize..range[1] as usize];
+        for (i, user) in users.iter().enumerate() {
+            if !users[..i].iter().any(|u| own(u) == own(user)) {
+                points.push(faces[user.0 as usize].at_corner(user.1));
             }
-            // Users at the same vertex of the base see the same point: one sample serves them all.
-            let mut seen: Vec<u32> = Vec::with_capacity(2);
-            mean(users.iter().filter_map(|&(f, k)| {
-                let face = &faces[f as usize];
-                let own = face.corner(k as usize);
-                (!seen.contains(&own)).then(|| {
-                    seen.push(own);
-                    surface.sample(face.at_corner(k))
-                })
-            }))
-        })
+        }
+    }
+    first.push(points.len());
+    let seen = sample_all(surface, &points);
+    // A vertex on faces left out only is never one of the result.
+    let corners: Vec<DiceSample> = first
+        .par_windows(2)
+        .map(|r| if r[0] == r[1] { DiceSample::default() } else { mean(seen[r[0]..r[1]].iter().copied()) })
         .collect();
     // Faces left whole by their corners alone go straight to the output; only the others (the band that
     // is diced, and its neighbours) have their edges numbered, measured and cut.
@@ -311,24 +324,46 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
             on_whole[weld(face.corner(k)) as usize] = true;
         }
     }
-    // Positions: welded vertices and welded edges, each sampled from every face around it.
-    let welded_edges = Edges::new(faces, &cut, weld);
+    // Positions: welded vertices and welded edges, each sampled from every face around it; attributes:
+    // the base's own vertices and edges.
+    let cut_faces: Vec<usize> = (0..faces.len()).filter(|&f| cut[f]).collect();
+    let (welded_edges, edges) =
+        rayon::join(|| Edges::new(faces, &cut_faces, weld), || Edges::new(faces, &cut_faces, |v| v));
     let rate_of = |px: f32| if px.is_finite() { (px / edge_px).ceil().clamp(1.0, MAX_RATE as f32) as u32 } else { 1 };
     // Per welded edge, the cuts it gets, and the cuts it would get if F varied along it (what a face across
     // which F varies takes).
+    // An edge that a whole face may share keeps its ends alone, as the whole face does; the others are
+    // sampled at their middle.
+    let shares_whole = |&(a, b): &EdgeKey| {
+        let (a, b) = (a as usize, b as usize);
+        corners[a].skip & corners[b].skip != 0 && on_whole[a] && on_whole[b]
+    };
+    let middles: Vec<BasePoint> = welded_edges
+        .ends
+        .iter()
+        .zip(&welded_edges.users)
+        .filter(|(ends, _)| !shares_whole(ends))
+        .map(|(_, &[(f, k), _])| faces[f as usize].on_edge(k, 0.5))
+        .collect();
+    let middles = sample_all(surface, &middles);
+    let mut middle_of = Vec::with_capacity(welded_edges.ends.len());
+    let mut next_middle = 0;
+    for ends in &welded_edges.ends {
+        middle_of.push(next_middle);
+        next_middle += usize::from(!shares_whole(ends));
+    }
     let rates: Vec<(u32, u32)> = welded_edges
         .ends
         .par_iter()
         .zip(&welded_edges.users)
-        .map(|(&(a, b), &[(f, k), _])| {
-            let (sa, sb) = (&corners[a as usize], &corners[b as usize]);
-            // An edge that a whole face may share keeps its ends alone, as the whole face does.
-            if sa.skip & sb.skip != 0 && on_whole[a as usize] && on_whole[b as usize] {
+        .zip(&middle_of)
+        .map(|((ends, &[(f, k), _]), &middle)| {
+            if shares_whole(ends) {
                 return (1, 1);
             }
-            let (a, b) = (sa, sb);
+            let (a, b) = (&corners[ends.0 as usize], &corners[ends.1 as usize]);
             let face = &faces[f as usize];
-            let mid = surface.sample(face.on_edge(k, 0.5));
+            let mid = middles[middle];
             // All three off the same side of the screen, all facing away, or all flat: the faces on both
             // sides are left whole along it (a face whose edges are all out on one side lies out there).
             if a.skip & b.skip & mid.skip != 0 {
@@ -376,36 +411,35 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
     if count > max_triangles as u64 {
         return Err(count.min(usize::MAX as u64) as usize);
     }
-    // The points along each welded edge, from its smaller welded end.
-    let edge_points: Vec<Vec<Vec3>> = welded_edges
-        .ends
-        .par_iter()
-        .zip(&welded_edges.users)
-        .zip(&rates)
-        .map(|((&(a, _), users), &(rate, _))| {
-            (1..rate)
-                .map(|j| {
-                    let s = j as f32 / rate as f32;
-                    // The other user sees the same point where it shares the base's own edge.
-                    let own = |&(f, k): &(u32, u8)| {
-                        let face = &faces[f as usize];
-                        key(face.corner(k as usize), face.corner(k as usize + 1))
-                    };
-                    let alike = own(&users[0]) == own(&users[1]);
-                    let seen = users.iter().take(if alike { 1 } else { 2 }).map(|&(f, k)| {
-                        // The user's edge runs from its corner k; the points run from the smaller end.
-                        let face = &faces[f as usize];
-                        let forward = weld(face.corner(k as usize)) == a;
-                        surface.sample(face.on_edge(k, if forward { s } else { 1.0 - s }))
-                    });
-                    displaced(&mean(seen))
-                })
-                .collect()
-        })
-        .collect();
+    // The points along each welded edge, from its smaller welded end: edge e's are
+    // `edge_points[edge_start[e]..edge_start[e + 1]]`, each sampled from both of its users (the mean)
+    // unless they share the base's own edge.
+    let own_edge = |&(f, k): &(u32, u8)| {
+        let face = &faces[f as usize];
+        key(face.corner(k as usize), face.corner(k as usize + 1))
+    };
+    let (mut edge_start, mut seen_from, mut points) = (Vec::with_capacity(rates.len() + 1), Vec::new(), Vec::new());
+    for ((&(a, _), users), &(rate, _)) in welded_edges.ends.iter().zip(&welded_edges.users).zip(&rates) {
+        edge_start.push(seen_from.len());
+        let alike = own_edge(&users[0]) == own_edge(&users[1]);
+        for j in 1..rate {
+            let s = j as f32 / rate as f32;
+            seen_from.push(points.len());
+            for &(f, k) in users.iter().take(if alike { 1 } else { 2 }) {
+                // The user's edge runs from its corner k; the points run from the smaller end.
+                let face = &faces[f as usize];
+                let forward = weld(face.corner(k as usize)) == a;
+                points.push(face.on_edge(k, if forward { s } else { 1.0 - s }));
+            }
+        }
+    }
+    edge_start.push(seen_from.len());
+    seen_from.push(points.len());
+    let seen = sample_all(surface, &points);
+    let edge_points: Vec<Vec3> =
+        seen_from.par_windows(2).map(|r| displaced(&mean(seen[r[0]..r[1]].iter().copied()))).collect();
     // Vertices: the base's own (at their welded position), then the points of its own edges, then each
     // face's inner points.
-    let edges = Edges::new(faces, &cut, |v| v);
     let mut diced = Diced {
         positions: Vec::with_capacity(count as usize),
         sources: Vec::with_capacity(count as usize),
@@ -425,7 +459,7 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
         let [(f, k), _] = edges.users[e];
         let face = &faces[f as usize];
         let w = welded_edges.of_face[f as usize][k as usize] as usize;
-        let points = &edge_points[w];
+        let points = &edge_points[edge_start[w]..edge_start[w + 1]];
         // This edge runs from vertex a; the welded points run from the smaller welded end.
         let same_way = weld(a) == welded_edges.ends[w].0 || weld(a) == weld(b);
         let forward = face.corner(k as usize) == a;
@@ -440,19 +474,20 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
     let shared = &diced.positions;
     // Each face's inner points, where they come from, and its triangles.
     type FacePart = (Vec<Vec3>, Vec<BasePoint>, Vec<[u32; 3]>);
-    let cut_faces: Vec<usize> = (0..faces.len()).filter(|&f| cut[f]).collect();
+    // Each worker keeps its grid's numbers, row starts and samples from face to face.
+    type Scratch = (Vec<u32>, Vec<usize>, Vec<DiceSample>);
     let parts: Vec<FacePart> = cut_faces
         .par_iter()
-        .map(|&f| {
+        .map_init(Scratch::default, |(ids, starts, samples), &f| {
             let (n, m) = grids[f];
             let face = &faces[f];
             let (own, welded) = (edges.of_face[f], welded_edges.of_face[f]);
             let quad = face.sides == 4;
-            let (mut points, mut sources) = (Vec::new(), Vec::new());
+            let mut sources = Vec::new();
             // Grid vertex (i, j) lies at (i / n, j / m) in the face's (s, t). Inner ones are numbered from
             // u32::MAX downwards until the face's first inner vertex is known.
-            let mut ids = Vec::with_capacity(((n + 1) * (m + 1)) as usize);
-            let mut starts = Vec::with_capacity(m as usize + 1);
+            ids.clear();
+            starts.clear();
             for j in 0..=m {
                 starts.push(ids.len());
                 let last = if quad { n } else { n - j };
@@ -478,15 +513,17 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
                             edge_first[own[k] as usize],
                         ),
                         None => {
-                            let at = face.point(i as f32 / n as f32, j as f32 / m as f32);
-                            points.push(displaced(&surface.sample(at)));
-                            sources.push(at);
-                            u32::MAX - (points.len() as u32 - 1)
+                            sources.push(face.point(i as f32 / n as f32, j as f32 / m as f32));
+                            u32::MAX - (sources.len() as u32 - 1)
                         }
                     };
                     ids.push(id);
                 }
             }
+            samples.clear();
+            samples.resize(sources.len(), DiceSample::default());
+            surface.sample_into(&sources, samples);
+            let points: Vec<Vec3> = samples.iter().map(displaced).collect();
             let id = |i: u32, j: u32| ids[starts[j as usize] + i as usize];
             let position = |v: u32| if v > u32::MAX / 2 { points[(u32::MAX - v) as usize] } else { shared[v as usize] };
             let mut out = Vec::with_capacity((2 * n * m) as usize);
@@ -516,16 +553,27 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
             (points, sources, out)
         })
         .collect();
+    // A whole face is its base triangles: a triangle's own, or a quad's [a, b, c] and [a, c, d].
+    let halves = |face: &Face| {
+        let c = face.corners;
+        let halves = [[c[0], c[1], c[2]], [c[0], c[2], c[3]]];
+        (halves, face.sides as usize - 2)
+    };
+    let whole_kept: Vec<u8> = faces
+        .par_iter()
+        .zip(&whole)
+        .map(|(face, &whole)| {
+            let (halves, count) = halves(face);
+            let kept = |t: &[u32; 3]| !collapsed(t.map(|v| diced.positions[v as usize]));
+            (0..count).filter(|&h| whole && kept(&halves[h])).fold(0, |bits, h| bits | 1 << h)
+        })
+        .collect();
     let mut parts = parts.into_iter();
     for (f, face) in faces.iter().enumerate() {
-        if whole[f] {
-            let c = face.corners;
-            let halves =
-                if face.sides == 3 { &[[c[0], c[1], c[2]]][..] } else { &[[c[0], c[1], c[2]], [c[0], c[2], c[3]]] };
-            for &t in halves.iter().filter(|t| !collapsed(t.map(|v| diced.positions[v as usize]))) {
-                diced.triangles.push(t);
-                diced.origins.push(f as u32);
-            }
+        let (halves, count) = halves(face);
+        for h in (0..count).filter(|&h| whole_kept[f] & (1 << h) != 0) {
+            diced.triangles.push(halves[h]);
+            diced.origins.push(f as u32);
         }
         if !cut[f] {
             continue;
@@ -539,6 +587,14 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
         diced.triangles.extend(triangles.into_iter().map(|c| c.map(renumber)));
     }
     Ok(diced)
+}
+
+/// `sample` at every point, in parallel, in batches a surface may sample together.
+fn sample_all(surface: &impl DiceSurface, points: &[BasePoint]) -> Vec<DiceSample> {
+    const BATCH: usize = 256;
+    let mut out = vec![DiceSample::default(); points.len()];
+    out.par_chunks_mut(BATCH).zip(points.par_chunks(BATCH)).for_each(|(out, at)| surface.sample_into(at, out));
+    out
 }
 
 /// Whether a triangle's corners are not three distinct points (corners snapped together, or at one welded

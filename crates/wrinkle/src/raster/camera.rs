@@ -72,15 +72,15 @@ impl Camera {
 
     /// Screen pixels per world unit near a world point; 0 behind the eye.
     pub fn pixels_per_unit(&self, world: Vec3) -> f32 {
+        self.pixels_per_unit_at(self.world_to_camera.transform_point3(world))
+    }
+
+    /// `pixels_per_unit` at a camera-space point.
+    #[inline]
+    pub fn pixels_per_unit_at(&self, seen: Vec3) -> f32 {
         match self.projection {
-            Projection::Perspective { .. } => {
-                let depth = -self.world_to_camera.transform_point3(world).z;
-                if depth > NEAR {
-                    self.scale / depth
-                } else {
-                    0.0
-                }
-            }
+            Projection::Perspective { .. } if -seen.z > NEAR => self.scale / -seen.z,
+            Projection::Perspective { .. } => 0.0,
             Projection::Orthographic { .. } => self.scale,
         }
     }

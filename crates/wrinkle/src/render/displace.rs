@@ -11,12 +11,13 @@ use crate::bump::{BumpSource, Displacement};
 use crate::geometry::dice::{dice, interpolate, weld, Base, BasePoint, DiceSample, DiceSurface, Diced, Face, Skip};
 use crate::geometry::tessellate::{grid, segments_for, Mesh};
 use crate::geometry::{Instance, Primitive, Surface, TriangleMesh};
+use crate::lanes::{CmpGt, CmpLe, F8, LANES, V3};
 use crate::limits::Limit;
 use crate::raster::camera::NEAR;
 use crate::raster::Camera;
 use crate::shade::Material;
 use crate::texture::filter::Filter;
-use crate::texture::{Footprint, LookupContext};
+use crate::texture::{Footprint, Footprint8, LookupContext, LookupContext8, SurfaceLanes};
 use crate::{Error, Result};
 use glam::{Affine3A, Mat3, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
@@ -51,6 +52,9 @@ struct Part<'a> {
     first_vertex: u32,
     /// Whether its faces turned away are culled (closed or one-sided).
     culled: bool,
+    /// Silhouette mode's threshold where it is the same all over (given, or the curvature is): worked
+    /// out once instead of at every sample.
+    threshold: Option<f32>,
 }
 
 /// The displaced primitives of one object over one base.
@@ -115,6 +119,11 @@ fn displace_object(
             mesh: None,
             first_vertex: d.positions.len() as u32,
             culled: !instances[i].two_sided,
+            threshold: match (displacement.needs_curvature(), surface.and_then(|s| s.constant_curvature())) {
+                (false, _) => Some(displacement.threshold_at(f32::INFINITY)),
+                (true, Some(curvature)) => Some(displacement.threshold_at(curvature)),
+                (true, None) => None,
+            },
         };
         let offset = part.first_vertex;
         let (positions, uvs, normals, triangles, mesh) = match (&instances[i].primitive, surface) {
@@ -270,52 +279,57 @@ impl DiceSurface for Displacing<'_> {
     fn sample(&self, at: BasePoint) -> DiceSample {
         let part = &self.parts[self.part_of[at.triangle as usize] as usize];
         let uv = interpolate(self.corners(at, &self.uvs), at.bary);
-        let (p, normal, pu, pv, curvature) = match &part.surface {
+        let displacement = part.displacement;
+        let (p, normal, pu, pv, threshold) = match &part.surface {
             Some(surface) => {
                 let f = surface.frame(uv.x, uv.y);
-                let curvature = || surface.constant_curvature().unwrap_or_else(|| f.max_curvature());
-                let curvature = if part.displacement.needs_curvature() { curvature() } else { f32::INFINITY };
-                (f.p, f.limit_normal(), f.pu, f.pv, curvature)
+                let threshold = part.threshold.unwrap_or_else(|| displacement.threshold_at(f.max_curvature()));
+                (f.p, f.limit_normal(), f.pu, f.pv, threshold)
             }
             None => {
                 let [a, b, c] = self.corners(at, &self.positions);
                 let n = interpolate(self.corners(at, &self.normals), at.bary).normalize_or_zero();
                 let (pu, pv) = uv_tangents([a, b, c], self.corners(at, &self.uvs));
-                (interpolate([a, b, c], at.bary), n, pu, pv, f32::INFINITY)
+                let threshold = part.threshold.unwrap_or_else(|| displacement.threshold_at(f32::INFINITY));
+                (interpolate([a, b, c], at.bary), n, pu, pv, threshold)
             }
         };
-        let facing = self.facing(p, normal);
-        let displacement = part.displacement;
-        let threshold = displacement.threshold_at(curvature);
+        // Where the point is in the world and on the screen, worked out once for all that follows.
+        let world = self.object_to_world.transform_point3(p);
+        let seen = self.camera.world_to_camera.transform_point3(world);
+        let ppu = self.camera.pixels_per_unit_at(seen) * self.stretch;
+        let facing = self.facing(world, normal);
         let w = displacement.weight(facing.abs(), threshold);
-        let (mut skip, mut clearance) = (0, f32::INFINITY);
-        if part.culled && facing < FACING_AWAY {
-            skip |= Skip::FACING_AWAY;
-            clearance = FACING_AWAY - facing;
-        }
         let height = match w {
-            0.0 => {
-                skip |= Skip::FLAT;
-                clearance = clearance.min(facing.abs() - threshold);
-                0.0
-            }
+            0.0 => 0.0,
             // F filtered to what one diced edge can show.
             _ => {
-                let size = displacement.edge_px / self.pixels_per_unit(p);
+                let size = displacement.edge_px / ppu;
                 let step = |d: Vec3| (size / d.length()).min(1.0);
                 let footprint = Footprint { dudx: step(pu), dvdx: 0.0, dudy: 0.0, dvdy: step(pv) };
                 let ctx = LookupContext::on_surface(p, pu, pv, uv, footprint);
-                w * displacement.map.eval(&ctx, &displacement.map.filter).f
+                w * displacement.map.height(&ctx, &displacement.map.filter)
             }
         };
-        skip |= self.off_screen(p, height.abs());
-        let clearance = if skip & Skip::FACING != 0 { clearance } else { 0.0 };
-        DiceSample { p, normal, height, skip, clearance }
+        self.finish(part, p, normal, seen, ppu, facing, threshold, height)
+    }
+
+    /// Eight points at a time where they lie on one parametric surface: its frames, facing, weights and F
+    /// on lanes.
+    fn sample_into(&self, at: &[BasePoint], out: &mut [DiceSample]) {
+        for (at, out) in at.chunks(LANES).zip(out.chunks_mut(LANES)) {
+            let part = self.part_of[at[0].triangle as usize];
+            match &self.parts[part as usize].surface {
+                Some(surface) if at.iter().all(|a| self.part_of[a.triangle as usize] == part) => {
+                    self.sample8(&self.parts[part as usize], surface, at, out)
+                }
+                _ => out.iter_mut().zip(at).for_each(|(out, &at)| *out = self.sample(at)),
+            }
+        }
     }
 
     fn screen(&self, p: Vec3) -> Option<Vec2> {
-        let at = self.camera.world_to_camera.transform_point3(self.object_to_world.transform_point3(p));
-        (!self.camera.is_perspective() || -at.z > NEAR).then(|| self.camera.project(at).0)
+        self.on_screen(self.camera.world_to_camera.transform_point3(self.object_to_world.transform_point3(p)))
     }
 
     fn pixels_per_unit(&self, p: Vec3) -> f32 {
@@ -349,21 +363,106 @@ const FACING_AWAY: f32 = -0.5;
 const SCREEN_MARGIN_PX: f32 = 16.0;
 
 impl Displacing<'_> {
-    /// N.V at an object-space point with unit normal `n`, in the world (where the eye is).
-    fn facing(&self, p: Vec3, n: Vec3) -> f32 {
+    /// `sample` of up to eight points of `part`'s parametric `surface`, on lanes.
+    fn sample8(&self, part: &Part, surface: &Surface, at: &[BasePoint], out: &mut [DiceSample]) {
+        let displacement = part.displacement;
+        // Lanes past the end repeat the last point.
+        let uv: [Vec2; LANES] = std::array::from_fn(|i| {
+            let at = at[i.min(at.len() - 1)];
+            interpolate(self.corners(at, &self.uvs), at.bary)
+        });
+        let (u, v) = (F8::new(uv.map(|t| t.x)), F8::new(uv.map(|t| t.y)));
+        let f = surface.frame8(u, v);
+        // Pu x Pv, or where it vanishes (a pole) the scalar frame's limit along the edge drawn together.
+        let mut normal = f.pu.cross(f.pv);
+        let (size, scale) = (normal.dot(normal), f.pu.dot(f.pu).max(f.pv.dot(f.pv)));
+        let degenerate = size.cmp_le(F8::splat(1e-12) * scale * scale).move_mask();
+        normal = normal.normalize_or_zero();
+        for i in (0..LANES).filter(|i| degenerate & (1 << i) != 0) {
+            normal.set_lane(i, surface.frame(uv[i].x, uv[i].y).limit_normal());
+        }
+        let threshold = match part.threshold {
+            Some(t) => F8::splat(t),
+            None => displacement.threshold8(f.max_curvature8()),
+        };
+        let world = V3::transform_point(&self.object_to_world, f.p);
+        let seen = V3::transform_point(&self.camera.world_to_camera, world);
+        let ppu = F8::new(std::array::from_fn(|i| self.camera.pixels_per_unit_at(seen.lane(i)) * self.stretch));
+        let to_eye = match self.camera.is_perspective() {
+            true => V3::splat(self.camera.eye) - world,
+            false => V3::splat(self.camera.camera_to_world.transform_vector3(Vec3::Z)),
+        };
+        let facing = V3::mul_mat3(&self.normal_matrix, normal).normalize_or_zero().dot(to_eye.normalize_or_zero());
+        let w = displacement.weight8(facing.abs(), threshold);
+        // F filtered to what one diced edge can show, where any lane moves.
+        let height = match w.cmp_gt(F8::ZERO).any() {
+            true => {
+                let size = F8::splat(displacement.edge_px) / ppu;
+                let step = |d: V3| (size / d.length()).min(F8::ONE);
+                let footprint = Footprint8 { dudx: step(f.pu), dvdx: F8::ZERO, dudy: F8::ZERO, dvdy: step(f.pv) };
+                let lanes = SurfaceLanes::new(f.p, f.pu, f.pv, &footprint, 0, [0; LANES]);
+                let ctx = LookupContext8 { surface: &lanes, u, v, footprint };
+                w * displacement.map.height8(&ctx, &displacement.map.filter)
+            }
+            false => F8::ZERO,
+        };
+        let (facing, threshold, height, ppu) =
+            (facing.to_array(), threshold.to_array(), height.to_array(), ppu.to_array());
+        for (i, out) in out.iter_mut().enumerate() {
+            let (p, normal, seen) = (f.p.lane(i), normal.lane(i), seen.lane(i));
+            *out = self.finish(part, p, normal, seen, ppu[i], facing[i], threshold[i], height[i]);
+        }
+    }
+
+    /// The sample at object-space point `p` with unit normal `normal`, camera-space point `seen`, `ppu`
+    /// pixels per object unit, N.V `facing`, silhouette mode's `threshold` and the `height` it moves by:
+    /// why it needs no dicing, and how surely.
+    #[allow(clippy::too_many_arguments)]
+    fn finish(
+        &self,
+        part: &Part,
+        p: Vec3,
+        normal: Vec3,
+        seen: Vec3,
+        ppu: f32,
+        facing: f32,
+        threshold: f32,
+        height: f32,
+    ) -> DiceSample {
+        let (mut skip, mut clearance) = (0, f32::INFINITY);
+        if part.culled && facing < FACING_AWAY {
+            skip |= Skip::FACING_AWAY;
+            clearance = FACING_AWAY - facing;
+        }
+        if part.displacement.weight(facing.abs(), threshold) == 0.0 {
+            skip |= Skip::FLAT;
+            clearance = clearance.min(facing.abs() - threshold);
+        }
+        skip |= self.off_screen(seen, height.abs() * ppu);
+        let clearance = if skip & Skip::FACING != 0 { clearance } else { 0.0 };
+        DiceSample { p, normal, height, skip, clearance }
+    }
+
+    /// N.V at a world point whose object-space unit normal is `n`.
+    fn facing(&self, world: Vec3, n: Vec3) -> f32 {
         let n = (self.normal_matrix * n).normalize_or_zero();
         let to_eye = match self.camera.is_perspective() {
-            true => self.camera.eye - self.object_to_world.transform_point3(p),
+            true => self.camera.eye - world,
             false => self.camera.camera_to_world.transform_vector3(Vec3::Z),
         };
         n.dot(to_eye.normalize_or_zero())
     }
 
-    /// Which sides of the screen an object-space point lies beyond, by more than a margin and its `height`
-    /// (object units); none behind the eye.
-    fn off_screen(&self, p: Vec3, height: f32) -> u8 {
-        let Some(at) = self.screen(p) else { return 0 };
-        let margin = SCREEN_MARGIN_PX + height * self.pixels_per_unit(p);
+    /// Where a camera-space point lands on the screen (pixels), if it is in front of the eye.
+    fn on_screen(&self, seen: Vec3) -> Option<Vec2> {
+        (!self.camera.is_perspective() || -seen.z > NEAR).then(|| self.camera.project(seen).0)
+    }
+
+    /// Which sides of the screen a camera-space point lies beyond, by more than a margin and its height
+    /// (`height_px`, pixels); none behind the eye.
+    fn off_screen(&self, seen: Vec3, height_px: f32) -> u8 {
+        let Some(at) = self.on_screen(seen) else { return 0 };
+        let margin = SCREEN_MARGIN_PX + height_px;
         let (w, h) = (self.camera.width as f32, self.camera.height as f32);
         let side = |out: bool, bit: u8| if out { bit } else { 0 };
         side(at.x < -margin, Skip::LEFT)
