@@ -259,7 +259,7 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
     let weld = |v: u32| base.weld[v as usize];
     // Faces with fewer than three corners at distinct points (a pole's triangles) cover nothing.
     let alive: Vec<bool> = faces
-        .iter()
+        .par_iter()
         .map(|f| {
             let w = &f.corners.map(weld)[..f.sides as usize];
             let distinct = (0..w.len()).filter(|&k| !w[..k].contains(&w[k])).count();
@@ -289,18 +289,17 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
     // Each welded vertex is sampled once at each base vertex among its faces' corners (users at the same
     // base vertex see the same point); vertex w's samples are `seen[first[w]..first[w + 1]]`.
     let own = |&(f, k): &(u32, u8)| faces[f as usize].corner(k as usize);
-    let mut first = Vec::with_capacity(base.welded + 1);
-    let mut points = Vec::with_capacity(users.len());
-    for range in starts.windows(2) {
-        first.push(points.len());
+    let unique = |range: &[u32]| {
         let users = &users[range[0] as usize..range[1] as usize];
-        for (i, user) in users.iter().enumerate() {
-            if !users[..i].iter().any(|u| own(u) == own(user)) {
-                points.push(faces[user.0 as usize].at_corner(user.1));
-            }
-        }
+        users.iter().enumerate().filter(move |&(i, user)| !users[..i].iter().any(|u| own(u) == own(user)))
+    };
+    let mut first: Vec<usize> =
+        std::iter::once(0).chain(starts.par_windows(2).map(|r| unique(r).count()).collect::<Vec<_>>()).collect();
+    for w in 0..base.welded {
+        first[w + 1] += first[w];
     }
-    first.push(points.len());
+    let points: Vec<BasePoint> =
+        starts.par_windows(2).flat_map_iter(|r| unique(r).map(|(_, &(f, k))| faces[f as usize].at_corner(k))).collect();
     let seen = sample_all(surface, &points);
     // A vertex on faces left out only is never one of the result.
     let corners: Vec<DiceSample> = first
