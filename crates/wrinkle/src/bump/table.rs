@@ -555,7 +555,28 @@ mod tests {
         for filter in [Filter::Reconstruct(Kernel::Bilinear), Filter::Reconstruct(Kernel::Nearest), Filter::Trilinear] {
             let opts = FilterOptions { filter, ..FilterOptions::default() };
             assert_eq!(table.height8(s, t, &fp, &opts).to_array(), table.lookup8(s, t, &fp, &opts)[0].to_array());
+            // And one at a time, as displacement's dicer reads it.
+            for i in 0..LANES {
+                let (s, t, fp) = (s.as_array_ref()[i], t.as_array_ref()[i], fp.lane(i));
+                assert_eq!(table.height_at(s, t, &fp, &opts).to_bits(), table.lookup(s, t, &fp, &opts).f.to_bits());
+            }
         }
+    }
+
+    /// A table constant but for one texel is constant over every box whose bilinear taps miss it, and
+    /// not over those whose taps reach it.
+    #[test]
+    fn constancy_follows_the_bilinear_taps() {
+        let table = BumpTable::new(&Image::from_fn(64, 32, |x, y| if (x, y) == (40, 31 - 10) { 0.5 } else { 0.25 }));
+        // Texel (40, 10) (counted from the bottom) is read by lookups with s in (39.5, 41.5) / 64.
+        let at = |x: f32, y: f32| Vec2::new(x / 64.0, y / 32.0);
+        assert!(!table.is_constant_over(at(40.5, 10.5), at(40.5, 10.5)));
+        assert!(!table.is_constant_over(at(20.0, 5.0), at(39.7, 10.0)));
+        assert!(table.is_constant_over(at(2.0, 2.0), at(30.0, 8.0)));
+        // Across the wrap, far from the spot.
+        assert!(table.is_constant_over(at(-10.0, 20.0), at(10.0, 28.0)));
+        assert!(!table.is_constant_over(at(-30.0, 9.0), at(-23.0, 11.0)));
+        assert!(!table.is_constant_over(Vec2::splat(f32::NAN), Vec2::ONE));
     }
 
     #[test]

@@ -17,6 +17,7 @@ use crate::raster::camera::NEAR;
 use crate::raster::Camera;
 use crate::shade::Material;
 use crate::texture::filter::Filter;
+use crate::texture::reconstruct::Kernel;
 use crate::texture::{Footprint, Footprint8, LookupContext, LookupContext8, SurfaceLanes};
 use crate::{Error, Result};
 use glam::{Affine3A, Mat3, Vec2, Vec3, Vec4};
@@ -342,7 +343,7 @@ impl DiceSurface for Displacing<'_> {
     fn uniform(&self, points: &[BasePoint]) -> bool {
         let part = &self.parts[self.part_of[points[0].triangle as usize] as usize];
         let map = &part.displacement.map;
-        let (BumpSource::Table(table), Some(_), Filter::Reconstruct(_)) =
+        let (BumpSource::Table(table), Some(_), Filter::Reconstruct(Kernel::Nearest | Kernel::Bilinear)) =
             (&map.source, map.mapping.constant_jacobian(), map.filter.filter)
         else {
             return false;
