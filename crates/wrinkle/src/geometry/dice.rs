@@ -293,10 +293,11 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
         let users = &users[range[0] as usize..range[1] as usize];
         users.iter().enumerate().filter(move |&(i, user)| !users[..i].iter().any(|u| own(u) == own(user)))
     };
-    let mut first: Vec<usize> =
-        std::iter::once(0).chain(starts.par_windows(2).map(|r| unique(r).count()).collect::<Vec<_>>()).collect();
-    for w in 0..base.welded {
-        first[w + 1] += first[w];
+    let counts: Vec<usize> = starts.par_windows(2).map(|r| unique(r).count()).collect();
+    let mut first = Vec::with_capacity(counts.len() + 1);
+    first.push(0);
+    for count in counts {
+        first.push(first[first.len() - 1] + count);
     }
     let points: Vec<BasePoint> =
         starts.par_windows(2).flat_map_iter(|r| unique(r).map(|(_, &(f, k))| faces[f as usize].at_corner(k))).collect();
@@ -329,8 +330,6 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
     let (welded_edges, edges) =
         rayon::join(|| Edges::new(faces, &cut_faces, weld), || Edges::new(faces, &cut_faces, |v| v));
     let rate_of = |px: f32| if px.is_finite() { (px / edge_px).ceil().clamp(1.0, MAX_RATE as f32) as u32 } else { 1 };
-    // Per welded edge, the cuts it gets, and the cuts it would get if F varied along it (what a face across
-    // which F varies takes).
     // An edge that a whole face may share keeps its ends alone, as the whole face does; the others are
     // sampled at their middle.
     let shares_whole = |&(a, b): &EdgeKey| {
@@ -351,6 +350,8 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
         middle_of.push(next_middle);
         next_middle += usize::from(!shares_whole(ends));
     }
+    // Per welded edge, the cuts it gets, and the cuts it would get if F varied along it (what a face across
+    // which F varies takes).
     let rates: Vec<(u32, u32)> = welded_edges
         .ends
         .par_iter()
