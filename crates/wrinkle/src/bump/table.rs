@@ -105,16 +105,21 @@ impl BumpTable {
         let plane = &self.data.levels()[0].0;
         let ranges = self.ranges.get_or_init(|| Ranges::of(plane.width, plane.height, &plane.texels));
         // A bilinear lookup at s reads the texels either side of s W - 1/2 (one more each way, for the
-        // rounding of the lookup's own arithmetic); more than a whole period is all of it.
+        // rounding of the lookup's own arithmetic); more than a whole period is all of it. Coordinates too
+        // far out to count texels in are not judged.
         let taps = |lo: f32, hi: f32, n: usize| {
             let n = n as f64;
             let (a, b) = (f64::from(lo) * n - 0.5, f64::from(hi) * n - 0.5);
             match b - a < n {
-                true => (a.floor() as i64 - 1, b.floor() as i64 + 2),
-                false => (0, n as i64),
+                _ if a.abs().max(b.abs()) > 1e15 => None,
+                true => Some((a.floor() as i64 - 1, b.floor() as i64 + 2)),
+                false => Some((0, n as i64)),
             }
         };
-        ranges.is_constant(taps(lo.x, hi.x, plane.width), taps(lo.y, hi.y, plane.height))
+        match (taps(lo.x, hi.x, plane.width), taps(lo.y, hi.y, plane.height)) {
+            (Some(x), Some(y)) => ranges.is_constant(x, y),
+            _ => false,
+        }
     }
 
     /// The largest |T| in the table.
@@ -577,6 +582,7 @@ mod tests {
         assert!(table.is_constant_over(at(-10.0, 20.0), at(10.0, 28.0)));
         assert!(!table.is_constant_over(at(-30.0, 9.0), at(-23.0, 11.0)));
         assert!(!table.is_constant_over(Vec2::splat(f32::NAN), Vec2::ONE));
+        assert!(!table.is_constant_over(Vec2::splat(3e38), Vec2::splat(3e38)));
     }
 
     #[test]
