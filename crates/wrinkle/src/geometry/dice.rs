@@ -314,27 +314,25 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
         .zip(&alive)
         .map(|(face, &alive)| {
             let at = |k: usize| &corners[weld(face.corners[k]) as usize];
-            alive && is_whole(&[at(0), at(1), at(2), at(3)][..face.sides as usize])
+            let corners = &[at(0), at(1), at(2), at(3)][..face.sides as usize];
+            alive && (is_whole(corners) || is_offset(surface, face, corners))
         })
         .collect();
     let cut: Vec<bool> = alive.iter().zip(&whole).map(|(&alive, &whole)| alive && !whole).collect();
-    let mut on_whole = vec![false; base.welded];
-    for (face, _) in faces.iter().zip(&whole).filter(|&(_, &whole)| whole) {
-        for k in 0..face.sides as usize {
-            on_whole[weld(face.corner(k)) as usize] = true;
-        }
-    }
     // Positions: welded vertices and welded edges, each sampled from every face around it; attributes:
     // the base's own vertices and edges.
     let cut_faces: Vec<usize> = (0..faces.len()).filter(|&f| cut[f]).collect();
     let (welded_edges, edges) =
         rayon::join(|| Edges::new(faces, &cut_faces, weld), || Edges::new(faces, &cut_faces, |v| v));
     let rate_of = |px: f32| if px.is_finite() { (px / edge_px).ceil().clamp(1.0, MAX_RATE as f32) as u32 } else { 1 };
-    // An edge that a whole face may share keeps its ends alone, as the whole face does; the others are
-    // sampled at their middle.
+    // An edge of a whole face keeps its ends alone on the other side too (found among the faces around its
+    // smaller end); the others are sampled at their middle.
     let shares_whole = |&(a, b): &EdgeKey| {
-        let (a, b) = (a as usize, b as usize);
-        corners[a].skip & corners[b].skip != 0 && on_whole[a] && on_whole[b]
+        users[starts[a as usize] as usize..starts[a as usize + 1] as usize].iter().any(|&(f, k)| {
+            let face = &faces[f as usize];
+            let k = k as usize;
+            whole[f as usize] && (weld(face.corner(k + 1)) == b || weld(face.corner(k + face.sides as usize - 1)) == b)
+        })
     };
     let middles: Vec<BasePoint> = welded_edges
         .ends
@@ -587,6 +585,23 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
         diced.triangles.extend(triangles.into_iter().map(|c| c.map(renumber)));
     }
     Ok(diced)
+}
+
+/// Whether a face whose corners' samples are `corners` is the base moved outwards as it is: F uniform over
+/// it, every corner moved alike, and each side's arc (its chord turning by the angle between its ends'
+/// normals sags about chord x angle / 8) within `OFFSET_SAG_PX` of its chord on screen.
+fn is_offset(surface: &impl DiceSurface, face: &Face, corners: &[&DiceSample]) -> bool {
+    let height = corners[0].height;
+    let alike = corners.iter().all(|c| (c.height - height).abs() <= 1e-6 * height.abs());
+    let sag_px = |a: &DiceSample, b: &DiceSample| {
+        let turn = a.normal.angle_between(b.normal);
+        let ppu = surface.pixels_per_unit(a.p).max(surface.pixels_per_unit(b.p));
+        displaced(a).distance(displaced(b)) * turn / 8.0 * ppu
+    };
+    let sides = corners.len();
+    alike
+        && (0..sides).all(|k| sag_px(corners[k], corners[(k + 1) % sides]) <= OFFSET_SAG_PX)
+        && surface.uniform(&[0, 1, 2, 3].map(|k| face.at_corner(k))[..sides])
 }
 
 /// `sample` at every point, in parallel, in batches a surface may sample together.
