@@ -52,9 +52,14 @@ impl Displacement {
         }
     }
 
-    /// Whether `threshold_at` reads the curvature (silhouette mode without a threshold of its own).
-    pub fn needs_curvature(&self) -> bool {
-        self.mode == DisplacementMode::Silhouette { threshold: None }
+    /// The threshold where it is the same all over a surface whose largest curvature is `constant` (known
+    /// only where it is the same everywhere): given, or of full displacement, or from that curvature;
+    /// `None` where it must be worked out point by point (`threshold_at`).
+    pub fn constant_threshold(&self, constant: Option<f32>) -> Option<f32> {
+        match (self.mode, constant) {
+            (DisplacementMode::Silhouette { threshold: None }, None) => None,
+            (_, curvature) => Some(self.threshold_at(curvature.unwrap_or(f32::INFINITY))),
+        }
     }
 
     /// `threshold_at` on eight lanes.

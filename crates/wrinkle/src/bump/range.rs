@@ -71,8 +71,9 @@ impl Ranges {
         // of each piece the wrap cuts the ranges into.
         let level = self.levels.iter().find(|l| 2 * l.block >= span).unwrap_or(&self.levels[self.levels.len() - 1]);
         let (mut least, mut largest) = (f32::INFINITY, f32::NEG_INFINITY);
-        for (x0, x1) in pieces(x, self.width) {
-            for (y0, y1) in pieces(y, self.height) {
+        let (xs, ys) = (pieces(x, self.width), pieces(y, self.height));
+        for &(x0, x1) in xs.iter().flatten() {
+            for &(y0, y1) in ys.iter().flatten() {
                 for by in y0 / level.block..=y1 / level.block {
                     for bx in x0 / level.block..=x1 / level.block {
                         let b = by * level.columns + bx;
@@ -88,15 +89,15 @@ impl Ranges {
 
 /// The inclusive range `r` of a table `n` long that repeats, as at most two ranges within it (the whole
 /// of it where `r` covers it all).
-fn pieces(r: (i64, i64), n: usize) -> Vec<(usize, usize)> {
+fn pieces(r: (i64, i64), n: usize) -> [Option<(usize, usize)>; 2] {
     let n = n as i64;
     if r.1 - r.0 + 1 >= n {
-        return vec![(0, n as usize - 1)];
+        return [Some((0, n as usize - 1)), None];
     }
     let (a, b) = (r.0.rem_euclid(n), r.1.rem_euclid(n));
     match a <= b {
-        true => vec![(a as usize, b as usize)],
-        false => vec![(a as usize, n as usize - 1), (0, b as usize)],
+        true => [Some((a as usize, b as usize)), None],
+        false => [Some((a as usize, n as usize - 1)), Some((0, b as usize))],
     }
 }
 

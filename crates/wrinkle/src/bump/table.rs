@@ -305,15 +305,11 @@ impl Gradients {
     fn height(&self, s: f32, t: f32, interp: Interp) -> f32 {
         let (w, h) = (self.0.width, self.0.height);
         match interp {
-            Interp::Nearest => {
-                self.at(((wrap01(s) * w as f32) as usize).min(w - 1), ((wrap01(t) * h as f32) as usize).min(h - 1))
-            }
+            Interp::Nearest => self.at(nearest(s, w), nearest(t, h)),
             Interp::Bilinear => {
                 let (i0, i1, fx) = bilinear_taps(s, w);
                 let (j0, j1, fy) = bilinear_taps(t, h);
-                let (a, b, c, d) = (self.at(i0, j0), self.at(i1, j0), self.at(i0, j1), self.at(i1, j1));
-                let bottom = a + fx * (b - a);
-                bottom + fy * (c + fx * (d - c) - bottom)
+                lerp2(fx, fy, self.at(i0, j0), self.at(i1, j0), self.at(i0, j1), self.at(i1, j1))
             }
         }
     }
@@ -330,9 +326,7 @@ impl Gradients {
         let next = |i: usize, n: usize| if i + 1 == n { 0 } else { i + 1 };
         match interp {
             Interp::Nearest => {
-                // FVAL: IU = IFIX(W * U), masked to the table (periodic).
-                let i = ((wrap01(s) * w as f32) as usize).min(w - 1);
-                let j = ((wrap01(t) * h as f32) as usize).min(h - 1);
+                let (i, j) = (nearest(s, w), nearest(t, h));
                 let gs = (self.at(next(i, w), j) - self.at(prev(i, w), j)) * hw;
                 let gt = (self.at(i, next(j, h)) - self.at(i, prev(j, h))) * hh;
                 [self.at(i, j), gs, gt]
@@ -344,10 +338,7 @@ impl Gradients {
                 let (jm, j2) = (prev(j0, h), next(j1, h));
                 let (r0, r1) = (&values[j0 * w..(j0 + 1) * w], &values[j1 * w..(j1 + 1) * w]);
                 let (rm, r2) = (&values[jm * w..(jm + 1) * w], &values[j2 * w..(j2 + 1) * w]);
-                let lerp2 = |a: f32, b: f32, c: f32, d: f32| {
-                    let bottom = a + fx * (b - a);
-                    bottom + fy * (c + fx * (d - c) - bottom)
-                };
+                let lerp2 = |a: f32, b: f32, c: f32, d: f32| lerp2(fx, fy, a, b, c, d);
                 let f = lerp2(r0[i0], r0[i1], r1[i0], r1[i1]);
                 let gs = lerp2(r0[i1] - r0[im], r0[i2] - r0[i0], r1[i1] - r1[im], r1[i2] - r1[i0]) * hw;
                 let gt = lerp2(r1[i0] - rm[i0], r1[i1] - rm[i1], r2[i0] - r0[i0], r2[i1] - r0[i1]) * hh;
@@ -391,11 +382,26 @@ impl Gradients {
     }
 }
 
-/// Bilinear interpolation with weights (fx, fy) between a, b (the lower row) and c, d (the upper).
+/// Bilinear interpolation with weights (fx, fy) between a, b (the lower row) and c, d (the upper), of one
+/// value or of eight lanes.
 #[inline(always)]
-fn lerp2(fx: F8, fy: F8, a: F8, b: F8, c: F8, d: F8) -> F8 {
+fn lerp2<T: Copy + std::ops::Add<Output = T> + std::ops::Sub<Output = T> + std::ops::Mul<Output = T>>(
+    fx: T,
+    fy: T,
+    a: T,
+    b: T,
+    c: T,
+    d: T,
+) -> T {
     let bottom = a + fx * (b - a);
     bottom + fy * (c + fx * (d - c) - bottom)
+}
+
+/// The texel Blinn's first FVAL reads at `s` along a periodic table `n` long: IU = IFIX(W * U), masked to
+/// the table.
+#[inline(always)]
+fn nearest(s: f32, n: usize) -> usize {
+    ((wrap01(s) * n as f32) as usize).min(n - 1)
 }
 
 /// On eight lanes: the bilinear taps of `bilinear_taps` (i0, i1 and the weight of i1) with their outer

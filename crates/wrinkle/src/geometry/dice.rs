@@ -83,9 +83,8 @@ pub trait DiceSurface: Sync {
     }
 }
 
-/// How long a curve through `points` is on screen (pixels): measured on screen where all of them are in
-/// front of the eye, else in the object at the largest scale of those that are.
-/// At most three points.
+/// How long a curve through `points` (at most three) is on screen (pixels): measured on screen where all of
+/// them are in front of the eye, else in the object at the largest scale of those that are.
 fn screen_length(surface: &impl DiceSurface, points: &[Vec3]) -> f32 {
     debug_assert!(points.len() <= 3);
     let mut on_screen = [Vec2::ZERO; 3];
@@ -308,16 +307,21 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
         .map(|r| if r[0] == r[1] { DiceSample::default() } else { mean(seen[r[0]..r[1]].iter().copied()) })
         .collect();
     // Faces left whole by their corners alone go straight to the output; only the others (the band that
-    // is diced, and its neighbours) have their edges numbered, measured and cut.
-    let whole: Vec<bool> = faces
+    // is diced, and its neighbours) have their edges numbered, measured and cut. Per face: whether it is
+    // whole, and (where that took asking) whether F is uniform over it.
+    let (whole, uniform): (Vec<bool>, Vec<bool>) = faces
         .par_iter()
         .zip(&alive)
         .map(|(face, &alive)| {
             let at = |k: usize| &corners[weld(face.corners[k]) as usize];
             let corners = &[at(0), at(1), at(2), at(3)][..face.sides as usize];
-            alive && (is_whole(corners) || is_offset(surface, face, corners))
+            if !alive || is_whole(corners) {
+                return (alive, false);
+            }
+            let uniform = surface.uniform(&[0, 1, 2, 3].map(|k| face.at_corner(k))[..face.sides as usize]);
+            (uniform && is_offset(surface, corners), uniform)
         })
-        .collect();
+        .unzip();
     let cut: Vec<bool> = alive.iter().zip(&whole).map(|(&alive, &whole)| alive && !whole).collect();
     // Positions: welded vertices and welded edges, each sampled from every face around it; attributes:
     // the base's own vertices and edges.
@@ -334,19 +338,20 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
             whole[f as usize] && (weld(face.corner(k + 1)) == b || weld(face.corner(k + face.sides as usize - 1)) == b)
         })
     };
+    let kept_whole: Vec<bool> = welded_edges.ends.par_iter().map(shares_whole).collect();
     let middles: Vec<BasePoint> = welded_edges
-        .ends
+        .users
         .iter()
-        .zip(&welded_edges.users)
-        .filter(|(ends, _)| !shares_whole(ends))
-        .map(|(_, &[(f, k), _])| faces[f as usize].on_edge(k, 0.5))
+        .zip(&kept_whole)
+        .filter(|(_, &kept)| !kept)
+        .map(|(&[(f, k), _], _)| faces[f as usize].on_edge(k, 0.5))
         .collect();
     let middles = sample_all(surface, &middles);
     let mut middle_of = Vec::with_capacity(welded_edges.ends.len());
     let mut next_middle = 0;
-    for ends in &welded_edges.ends {
+    for &kept in &kept_whole {
         middle_of.push(next_middle);
-        next_middle += usize::from(!shares_whole(ends));
+        next_middle += usize::from(!kept);
     }
     // Per welded edge, the cuts it gets, and the cuts it would get if F varied along it (what a face across
     // which F varies takes).
@@ -354,9 +359,9 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
         .ends
         .par_iter()
         .zip(&welded_edges.users)
-        .zip(&middle_of)
-        .map(|((ends, &[(f, k), _]), &middle)| {
-            if shares_whole(ends) {
+        .zip(middle_of.par_iter().zip(&kept_whole))
+        .map(|((ends, &[(f, k), _]), (&middle, &kept))| {
+            if kept {
                 return (1, 1);
             }
             let (a, b) = (&corners[ends.0 as usize], &corners[ends.1 as usize]);
@@ -388,17 +393,12 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
     let grids: Vec<(u32, u32)> = faces
         .par_iter()
         .zip(&welded_edges.of_face)
-        .zip(alive.par_iter().zip(&whole))
-        .map(|((face, e), (&alive, &whole))| match (alive, whole) {
-            (false, _) => (0, 0),
-            (true, true) => (1, 1),
-            (true, false) => {
-                let corners = [0, 1, 2, 3].map(|k| face.at_corner(k));
-                match surface.uniform(&corners[..face.sides as usize]) {
-                    true => grid_of(face, e.map(|e| rates[e as usize].0)),
-                    false => grid_of(face, e.map(|e| rates[e as usize].1)),
-                }
-            }
+        .zip(cut.par_iter().zip(&whole).zip(&uniform))
+        .map(|((face, e), ((&cut, &whole), &uniform))| match (cut, whole, uniform) {
+            (true, _, true) => grid_of(face, e.map(|e| rates[e as usize].0)),
+            (true, _, false) => grid_of(face, e.map(|e| rates[e as usize].1)),
+            (false, true, _) => (1, 1),
+            (false, false, _) => (0, 0),
         })
         .collect();
     let count: u64 = faces
@@ -587,10 +587,10 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
     Ok(diced)
 }
 
-/// Whether a face whose corners' samples are `corners` is the base moved outwards as it is: F uniform over
-/// it, every corner moved alike, and each side's arc (its chord turning by the angle between its ends'
-/// normals sags about chord x angle / 8) within `OFFSET_SAG_PX` of its chord on screen.
-fn is_offset(surface: &impl DiceSurface, face: &Face, corners: &[&DiceSample]) -> bool {
+/// Whether a face over which F is uniform, whose corners' samples are `corners`, is the base moved
+/// outwards as it is: every corner moved alike, and each side's arc (its chord turning by the angle between
+/// its ends' normals sags about chord x angle / 8) within `OFFSET_SAG_PX` of its chord on screen.
+fn is_offset(surface: &impl DiceSurface, corners: &[&DiceSample]) -> bool {
     let height = corners[0].height;
     let alike = corners.iter().all(|c| (c.height - height).abs() <= 1e-6 * height.abs());
     let sag_px = |a: &DiceSample, b: &DiceSample| {
@@ -599,9 +599,7 @@ fn is_offset(surface: &impl DiceSurface, face: &Face, corners: &[&DiceSample]) -
         displaced(a).distance(displaced(b)) * turn / 8.0 * ppu
     };
     let sides = corners.len();
-    alike
-        && (0..sides).all(|k| sag_px(corners[k], corners[(k + 1) % sides]) <= OFFSET_SAG_PX)
-        && surface.uniform(&[0, 1, 2, 3].map(|k| face.at_corner(k))[..sides])
+    alike && (0..sides).all(|k| sag_px(corners[k], corners[(k + 1) % sides]) <= OFFSET_SAG_PX)
 }
 
 /// `sample` at every point, in parallel, in batches a surface may sample together.

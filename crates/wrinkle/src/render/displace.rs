@@ -120,11 +120,7 @@ fn displace_object(
             mesh: None,
             first_vertex: d.positions.len() as u32,
             culled: !instances[i].two_sided,
-            threshold: match (displacement.needs_curvature(), surface.and_then(|s| s.constant_curvature())) {
-                (false, _) => Some(displacement.threshold_at(f32::INFINITY)),
-                (true, Some(curvature)) => Some(displacement.threshold_at(curvature)),
-                (true, None) => None,
-            },
+            threshold: displacement.constant_threshold(surface.and_then(|s| s.constant_curvature())),
         };
         let offset = part.first_vertex;
         let (positions, uvs, normals, triangles, mesh) = match (&instances[i].primitive, surface) {

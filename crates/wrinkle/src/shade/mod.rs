@@ -348,7 +348,10 @@ impl ShadeContext<'_> {
                         Primitive::Parametric(s) => s.constant_curvature(),
                         Primitive::Mesh(_) => None,
                     };
-                    let threshold = d.threshold8(constant.map_or_else(|| frame.max_curvature8(), F8::splat));
+                    let threshold = match d.constant_threshold(constant) {
+                        Some(t) => F8::splat(t),
+                        None => d.threshold8(frame.max_curvature8()),
+                    };
                     d.weight8(facing, threshold)
                 }
             };
