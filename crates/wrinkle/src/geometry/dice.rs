@@ -278,28 +278,34 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
     }
     let mut users = vec![(0u32, 0u8); starts[base.welded] as usize];
     let mut next = starts.clone();
+    // Each base vertex is sampled once, from the first face corner at it: `used` in the order of first use.
+    let (mut is_used, mut used) = (vec![false; base.weld.len()], Vec::with_capacity(base.weld.len()));
     for (f, face) in faces.iter().enumerate().filter(|&(f, _)| alive[f]) {
         for k in 0..face.sides {
-            let w = weld(face.corner(k as usize)) as usize;
+            let v = face.corner(k as usize);
+            let w = weld(v) as usize;
             users[next[w] as usize] = (f as u32, k);
             next[w] += 1;
+            if !std::mem::replace(&mut is_used[v as usize], true) {
+                used.push((w as u32, (f as u32, k)));
+            }
         }
     }
-    // Each welded vertex is sampled once at each base vertex among its faces' corners (users at the same
-    // base vertex see the same point); vertex w's samples are `seen[first[w]..first[w + 1]]`.
-    let own = |&(f, k): &(u32, u8)| faces[f as usize].corner(k as usize);
-    let unique = |range: &[u32]| {
-        let users = &users[range[0] as usize..range[1] as usize];
-        users.iter().enumerate().filter(move |&(i, user)| !users[..i].iter().any(|u| own(u) == own(user)))
-    };
-    let counts: Vec<usize> = starts.par_windows(2).map(|r| unique(r).count()).collect();
-    let mut first = Vec::with_capacity(counts.len() + 1);
-    first.push(0);
-    for count in counts {
-        first.push(first[first.len() - 1] + count);
+    // A welded vertex's sample is the mean over its base vertices in that order: vertex w's are
+    // `seen[first[w]..first[w + 1]]`.
+    let mut first = vec![0usize; base.welded + 1];
+    for &(w, _) in &used {
+        first[w as usize + 1] += 1;
     }
-    let points: Vec<BasePoint> =
-        starts.par_windows(2).flat_map_iter(|r| unique(r).map(|(_, &(f, k))| faces[f as usize].at_corner(k))).collect();
+    for w in 0..base.welded {
+        first[w + 1] += first[w];
+    }
+    let (mut at, mut ordered) = (first.clone(), vec![(0u32, 0u8); used.len()]);
+    for (w, corner) in used {
+        ordered[at[w as usize]] = corner;
+        at[w as usize] += 1;
+    }
+    let points: Vec<BasePoint> = ordered.par_iter().map(|&(f, k)| faces[f as usize].at_corner(k)).collect();
     let seen = sample_all(surface, &points);
     // A vertex on faces left out only is never one of the result.
     let corners: Vec<DiceSample> = first
@@ -566,24 +572,64 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
             (0..count).filter(|&h| whole && kept(&halves[h])).fold(0, |bits, h| bits | 1 << h)
         })
         .collect();
-    let mut parts = parts.into_iter();
-    for (f, face) in faces.iter().enumerate() {
-        let (halves, count) = halves(face);
-        for h in (0..count).filter(|&h| whole_kept[f] & (1 << h) != 0) {
-            diced.triangles.push(halves[h]);
-            diced.origins.push(f as u32);
-        }
-        if !cut[f] {
-            continue;
-        }
-        let (points, sources, triangles) = parts.next().expect("one part per face cut");
-        let first = diced.positions.len() as u32;
-        diced.positions.extend(points);
-        diced.sources.extend(sources);
-        let renumber = |v: u32| if v > u32::MAX / 2 { first + (u32::MAX - v) } else { v };
-        diced.origins.extend(std::iter::repeat_n(f as u32, triangles.len()));
-        diced.triangles.extend(triangles.into_iter().map(|c| c.map(renumber)));
+    // The rest of the output is written in parallel, by blocks of faces, each at its place: per face its
+    // whole halves, then its part's triangles, and its part's inner points.
+    const BLOCK: usize = 1024;
+    let block_parts = |start: usize| cut_faces.partition_point(|&f| f < start);
+    let sizes: Vec<(usize, usize)> = (0..faces.len())
+        .into_par_iter()
+        .step_by(BLOCK)
+        .map(|start| {
+            let end = (start + BLOCK).min(faces.len());
+            let halves: usize = whole_kept[start..end].iter().map(|bits| bits.count_ones() as usize).sum();
+            parts[block_parts(start)..block_parts(end)]
+                .iter()
+                .fold((0, halves), |(points, triangles), part| (points + part.0.len(), triangles + part.2.len()))
+        })
+        .collect();
+    let (points, triangles) = sizes.iter().fold((0, 0), |(p, t), &(bp, bt)| (p + bp, t + bt));
+    let inner_first = diced.positions.len();
+    diced.positions.resize(inner_first + points, Vec3::ZERO);
+    diced.sources.resize(inner_first + points, BasePoint { triangle: 0, bary: [1.0, 0.0, 0.0] });
+    diced.triangles.resize(triangles, [0; 3]);
+    diced.origins.resize(triangles, 0);
+    let mut places = Vec::with_capacity(sizes.len());
+    let (mut positions, mut sources) = (&mut diced.positions[inner_first..], &mut diced.sources[inner_first..]);
+    let (mut triangles, mut origins) = (&mut diced.triangles[..], &mut diced.origins[..]);
+    let mut first = inner_first;
+    for (b, &(points, count)) in sizes.iter().enumerate() {
+        let (p, s, t, o);
+        (p, positions) = std::mem::take(&mut positions).split_at_mut(points);
+        (s, sources) = std::mem::take(&mut sources).split_at_mut(points);
+        (t, triangles) = std::mem::take(&mut triangles).split_at_mut(count);
+        (o, origins) = std::mem::take(&mut origins).split_at_mut(count);
+        places.push((b * BLOCK, first, p, s, t, o));
+        first += points;
     }
+    places.into_par_iter().for_each(|(start, first, positions, sources, triangles, origins)| {
+        let (mut part, mut point, mut triangle) = (block_parts(start), 0, 0);
+        for f in start..(start + BLOCK).min(faces.len()) {
+            let (halves, count) = halves(&faces[f]);
+            for h in (0..count).filter(|&h| whole_kept[f] & (1 << h) != 0) {
+                (triangles[triangle], origins[triangle]) = (halves[h], f as u32);
+                triangle += 1;
+            }
+            if !cut[f] {
+                continue;
+            }
+            let (points, from, inner) = &parts[part];
+            part += 1;
+            positions[point..point + points.len()].copy_from_slice(points);
+            sources[point..point + points.len()].copy_from_slice(from);
+            let number = (first + point) as u32;
+            let renumber = |v: u32| if v > u32::MAX / 2 { number + (u32::MAX - v) } else { v };
+            for c in inner {
+                (triangles[triangle], origins[triangle]) = (c.map(renumber), f as u32);
+                triangle += 1;
+            }
+            point += points.len();
+        }
+    });
     Ok(diced)
 }
 
