@@ -46,10 +46,11 @@ def keyvalues(text):
 
 class Tool:
     """One tool's command on one workload; `measure` runs it once and returns {metric: value}. `picture`, when
-    given, is the frame it writes, compared with wrinkle's after the rounds; `note` is what that found."""
+    given, is the frame it writes, compared with wrinkle's after the rounds (or with `against`, a frame it stands
+    in for); `note` is what that found."""
 
-    def __init__(self, name, argv, read, picture=None):
-        self.name, self.argv, self.read, self.picture = name, argv, read, picture
+    def __init__(self, name, argv, read, picture=None, against=None):
+        self.name, self.argv, self.read, self.picture, self.against = name, argv, read, picture, against
         self.samples = {}
         self.note = ""
 
@@ -197,13 +198,13 @@ def psnr(a_png, b_png):
     return 10 * np.log10(255 ** 2 / max(mse, 1e-12))
 
 
-def wrinkle_frame(m, scene, frames, picture, spp=1):
+def wrinkle_frame(m, scene, frames, picture, spp=1, shading_rate="sample"):
     """wrinkle's frame of `scene` at 1920x1080 and `spp` samples: timed in-process by `wrinkle bench`, and
     rendered once now to `picture`, which the peers' frames are compared with."""
-    size = ["--width", "1920", "--height", "1080", "--spp", str(spp)]
+    size = ["--width", "1920", "--height", "1080", "--spp", str(spp), "--shading-rate", shading_rate]
     subprocess.run([WRINKLE, "render", scene, "-o", picture] + size, check=True, capture_output=True)
-    return Tool("wrinkle (2 threads)", [WRINKLE, "bench", scene, "--frames", frames] + size, fields({m: "median_ms"}),
-                picture=picture)
+    name = "wrinkle (2 threads)" if shading_rate == "sample" else f"wrinkle (2 threads), shaded once per {shading_rate}"
+    return Tool(name, [WRINKLE, "bench", scene, "--frames", frames] + size, fields({m: "median_ms"}), picture=picture)
 
 
 def canonical_workload(args, work):
@@ -215,11 +216,21 @@ def canonical_workload(args, work):
     for spp, ss, mitsuba in [(1, 1, ["llvm_ad_rgb", "scalar_rgb"]), (16, 4, ["llvm_ad_rgb"])]:
         m = metric(f"canonical bump-mapped sphere 1920x1080 {spp} spp, frame", "ms", False)
         tools.append(wrinkle_frame(m, scene, frames, os.path.join(work, f"wrinkle_canonical_{spp}.png"), spp))
+        # Several samples: also wrinkle's multisampling (each triangle shaded once per pixel), whose own
+        # metric repeats the peers' figures beside it.
+        ms = {m: "median_ms"}
+        if spp > 1:
+            mp = metric(f"canonical bump-mapped sphere 1920x1080 {spp} spp, wrinkle shading once per pixel, frame",
+                        "ms", False)
+            tools.append(wrinkle_frame(mp, scene, frames, os.path.join(work, f"wrinkle_canonical_{spp}_pixel.png"),
+                                       spp, "pixel"))
+            tools[-1].against = tools[-2].picture
+            ms[mp] = "median_ms"
         if python_has("moderngl", "numpy", "PIL"):
             theirs = os.path.join(work, f"llvmpipe_canonical_{spp}.png")
             name = "Mesa llvmpipe (GLSL Blinn bump, 512x256 sphere mesh" + (f", {ss}x{ss} supersampled)" if ss > 1 else ")")
             tools.append(Tool(name, [sys.executable, "bench/llvmpipe_canonical.py", "bench/canonical", theirs, frames,
-                                     str(ss)], fields({m: "median_ms"}), picture=theirs))
+                                     str(ss)], fields(ms), picture=theirs))
         else:
             print("left out: llvmpipe (moderngl not installed)", file=sys.stderr)
         if python_has("mitsuba"):
@@ -322,10 +333,14 @@ def main():
                   file=sys.stderr)
             continue
         for tool in tools:
-            # The wrinkle run of the same metric (every workload lists wrinkle first for each of its metrics).
+            # The wrinkle run of the same metric (every workload lists wrinkle first for each of its metrics);
+            # a second wrinkle run (another shading rate) is compared with the frame it stands in for.
             ours = next(t for t in tools if t.name.startswith("wrinkle") and set(t.samples) & set(tool.samples))
-            if tool is not ours and tool.picture and ours.picture and python_has("numpy", "PIL"):
-                tool.note = f"PSNR {psnr(ours.picture, tool.picture):.1f} dB against wrinkle's frame"
+            reference = tool.against or (ours.picture if tool is not ours else None)
+            if reference and tool.picture and python_has("numpy", "PIL"):
+                tool.note = f"PSNR {psnr(reference, tool.picture):.1f} dB against wrinkle's frame"
+                if tool.against:
+                    tool.note += " shading every sample"
         rows.extend(tools)
     print("| workload | tool | median | best | unit | wrinkle's advantage | picture |")
     print("| --- | --- | --- | --- | --- | --- | --- |")

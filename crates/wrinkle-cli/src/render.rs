@@ -9,7 +9,7 @@ use wrinkle::bump::BumpFilter;
 use wrinkle::image::output::OutputSet;
 use wrinkle::render::{Aovs, Transparency};
 use wrinkle::texture::{Filter, TexelLocation};
-use wrinkle::{render_with_progress, Crop, Error, PixelFilter, RenderOptions, Result, Sampler, Scene};
+use wrinkle::{render_with_progress, Crop, Error, PixelFilter, RenderOptions, Result, Sampler, Scene, ShadingRate};
 
 #[derive(Args, Debug)]
 #[command(
@@ -75,6 +75,11 @@ pub struct FrameArgs {
     /// proportion to the filter around each pixel's centre, so a wide filter needs several --spp.
     #[arg(long, default_value = "box", value_name = "NAME[:RADIUS]")]
     pub pixel_filter: String,
+    /// How often the samples are shaded: sample (every one: supersampling, bump detail inside a pixel
+    /// averaged too) or pixel (each triangle once per pixel, at its covered sample nearest the centre with
+    /// the whole pixel's footprint: multisampling, coverage still at every sample).
+    #[arg(long, default_value = "sample", value_parser = ShadingRate::NAMES)]
+    pub shading_rate: String,
     /// Seeds the Sobol sampler's per-pixel scrambles: renders with other seeds are independent estimates of
     /// the same image.
     #[arg(long, default_value_t = 0)]
@@ -126,6 +131,7 @@ impl FrameArgs {
             sampler: Sampler::parse(&self.sampler).expect("clap checked the sampler"),
             texel_location: TexelLocation::parse(&self.texel_location).expect("clap checked the location"),
             pixel_filter: PixelFilter::parse(&self.pixel_filter)?,
+            shading_rate: ShadingRate::parse(&self.shading_rate).expect("clap checked the shading rate"),
             seed: self.seed,
             bump: !self.no_bump,
             bump_filter: self.bump_filter,

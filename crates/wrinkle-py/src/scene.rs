@@ -12,7 +12,7 @@ use std::time::Duration;
 use wrinkle::bump::BumpFilter;
 use wrinkle::render::{Aovs, Transparency};
 use wrinkle::texture::TexelLocation;
-use wrinkle::{Crop, PixelFilter, RenderOptions, Sampler};
+use wrinkle::{Crop, PixelFilter, RenderOptions, Sampler, ShadingRate};
 
 /// How often a render in progress looks up from its work: for Ctrl-C, and to report progress.
 const POLL: Duration = Duration::from_millis(20);
@@ -76,7 +76,7 @@ impl Scene {
 
     /// Renders a frame: "color" (H, W, 3) linear RGB and each AOV named in `aovs`, as arrays. `progress`,
     /// when given, is called with (done, total) from the calling thread as bands finish.
-    #[pyo3(signature = (width, height, spp, aovs, bump, bump_filter, transparent, transparency, turntable, progress, crop=None, sampler="stratified", pixel_filter="box", seed=0, texel_location="centre"))]
+    #[pyo3(signature = (width, height, spp, aovs, bump, bump_filter, transparent, transparency, turntable, progress, crop=None, sampler="stratified", pixel_filter="box", seed=0, texel_location="centre", shading_rate="sample"))]
     #[allow(clippy::too_many_arguments)]
     fn render<'py>(
         &self,
@@ -96,6 +96,7 @@ impl Scene {
         pixel_filter: &str,
         seed: u32,
         texel_location: &str,
+        shading_rate: &str,
     ) -> PyResult<Bound<'py, PyDict>> {
         let mut kinds = Aovs::default();
         for name in &aovs {
@@ -125,6 +126,10 @@ impl Scene {
             texel_location: TexelLocation::parse(texel_location).ok_or_else(|| {
                 let names = TexelLocation::NAMES.map(|(n, _)| n).join(", ");
                 invalid(format!("texel_location: expected one of {names}, got \"{texel_location}\""))
+            })?,
+            shading_rate: ShadingRate::parse(shading_rate).ok_or_else(|| {
+                let names = ShadingRate::NAMES.join(", ");
+                invalid(format!("shading_rate: expected one of {names}, got \"{shading_rate}\""))
             })?,
             seed,
             bump,

@@ -72,6 +72,20 @@ def test_texel_location_and_lean_match_the_cli(cli, tmp_path, repo):
         scene.render(32, 32, texel_location="middle")
 
 
+def test_shading_once_per_pixel_matches_the_cli(cli, tmp_path, repo):
+    canonical = repo / "bench" / "canonical" / "sphere.toml"
+    out = tmp_path / "sphere.exr"
+    cli("render", canonical, "-o", out, "--width", 96, "--height", 64, "--spp", 16, "--shading-rate", "pixel")
+    scene = wrinkle.Scene.load(canonical)
+    frame = scene.render(96, 64, spp=16, shading_rate="pixel")
+    assert np.array_equal(wrinkle.read_exr(out)["R"], frame["color"][..., 0])
+    # Shading every sample averages the bricks inside each pixel: the option was used, not ignored.
+    every = scene.render(96, 64, spp=16)
+    assert np.abs(every["color"] - frame["color"]).max() > 0.01
+    with pytest.raises(ValueError, match="shading_rate"):
+        scene.render(32, 32, shading_rate="quad")
+
+
 def test_an_animated_scene_at_a_time_is_the_clis_frame(cli, tmp_path, repo):
     scene = wrinkle.Scene.load(repo / "scenes" / "animation.toml")
     assert scene.animation_end == 4.0

@@ -50,6 +50,7 @@ pub use procedural::Perlin;
 pub use raster::Camera;
 pub use render::{
     render, render_parts, render_until, render_with_progress, Aovs, Crop, Frame, PixelFilter, RenderOptions, Sampler,
+    ShadingRate,
 };
 pub use scene::{CameraDesc, Projection, Scene};
 pub use shade::Material;

@@ -172,6 +172,7 @@ class Scene:
         pixel_filter: str = "box",
         seed: int = 0,
         texel_location: str = "centre",
+        shading_rate: str = "sample",
     ) -> dict:
         """Renders a frame as `wrinkle render` does, returning arrays by name:
 
@@ -188,7 +189,8 @@ class Scene:
         "tent", "gaussian", "mitchell" or "lanczos", or "NAME:RADIUS"; `seed` seeds the Sobol scrambles
         (renders with other seeds are independent estimates of the same image). `texel_location` is where a
         pixel reads its textures: "centre", or "centroid" or "diagonals" of its projected corners (with their
-        quadrilateral's footprint). `progress=True` shows a tqdm bar; a
+        quadrilateral's footprint). `shading_rate` is "sample" (every sample shaded) or "pixel" (each
+        triangle once per pixel, coverage still per sample). `progress=True` shows a tqdm bar; a
         callable gets (done, total). Ctrl-C stops the render promptly (KeyboardInterrupt)."""
         if isinstance(aov, str):
             aov = (aov,)
@@ -198,7 +200,7 @@ class Scene:
                 int(width), int(height), int(spp), [str(a) for a in aov], bool(bump), bump_filter,
                 bool(transparent), str(transparency), float(turntable), callback,
                 None if crop is None else tuple(int(c) for c in crop), str(sampler), str(pixel_filter), int(seed),
-                str(texel_location),
+                str(texel_location), str(shading_rate),
             )
         finally:
             if bar is not None:

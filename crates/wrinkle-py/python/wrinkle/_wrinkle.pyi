@@ -67,6 +67,7 @@ class Scene:
         pixel_filter: str = "box",
         seed: int = 0,
         texel_location: str = "centre",
+        shading_rate: str = "sample",
     ) -> Dict[str, np.ndarray]: ...
 
 class Texture:

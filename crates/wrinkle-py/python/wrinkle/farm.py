@@ -248,7 +248,7 @@ def render(
     """Renders frames of a scene (the embedded one where `scene` is None) on Ray, each frame whole or in
     `tiles` x `tiles` crops, and writes them as `wrinkle render -o OUTPUT --frames FRAMES` does: one file per
     frame (numbered for a range or several frames) with its AOVs. `options` are `Scene.render`'s (width,
-    height, spp, sampler, pixel_filter, texel_location, aov, bump, bump_filter, transparent, transparency). Each frame is
+    height, spp, sampler, pixel_filter, texel_location, shading_rate, aov, bump, bump_filter, transparent, transparency). Each frame is
     written once, when all its parts are in. The workers read the scene at its absolute path (shared
     storage), or at `worker_scene` (a path in the folder `connect(ship=...)` uploaded). Returns the files'
     paths in frame order."""
@@ -372,6 +372,7 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--sampler", default="stratified", choices=["stratified", "sobol"])
     r.add_argument("--pixel-filter", default="box", help="box, tent, gaussian, mitchell or lanczos, or NAME:RADIUS")
     r.add_argument("--texel-location", default="centre", choices=["centre", "centroid", "diagonals"])
+    r.add_argument("--shading-rate", default="sample", choices=["sample", "pixel"])
     r.add_argument("--turntable", action="store_true", help="one full turn of the objects over the frames")
     r.add_argument("--aov", default="", help="comma-separated: normal, uv, depth, id, primitive")
     r.add_argument("--background", default="scene", choices=["scene", "transparent"])
@@ -405,7 +406,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                 worker_scene=args.scene.name if ship is not None else None,
                 turntable=args.turntable, retries=args.retries, progress=not args.quiet,
                 width=args.width, height=args.height, spp=args.spp, sampler=args.sampler,
-                pixel_filter=args.pixel_filter, texel_location=args.texel_location,
+                pixel_filter=args.pixel_filter, texel_location=args.texel_location, shading_rate=args.shading_rate,
                 aov=tuple(a for a in args.aov.split(",") if a),
                 bump=not args.no_bump, bump_filter=args.bump_filter,
                 transparent=args.background == "transparent", transparency=args.transparency,

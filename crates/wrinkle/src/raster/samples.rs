@@ -35,6 +35,30 @@ impl Sampler {
     }
 }
 
+/// How often a pixel's samples are shaded.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ShadingRate {
+    /// Every sample (supersampling): what varies inside a pixel (bump detail, highlights) is averaged too.
+    #[default]
+    Sample,
+    /// Once per pixel and triangle (multisampling): visibility and coverage still at every sample; each
+    /// triangle seen in the pixel is shaded at its covered sample nearest the pixel's centre, with the
+    /// whole pixel's texture footprint, and that colour stands for all its samples there.
+    Pixel,
+}
+
+impl ShadingRate {
+    pub const NAMES: [&str; 2] = ["sample", "pixel"];
+
+    pub fn parse(name: &str) -> Option<ShadingRate> {
+        match name {
+            "sample" => Some(ShadingRate::Sample),
+            "pixel" => Some(ShadingRate::Pixel),
+            _ => None,
+        }
+    }
+}
+
 /// The pixel reconstruction filter: how much a sample at (x, y) from the pixel's centre counts, the
 /// product of the one-dimensional filter in x and in y. Radii are in pixels.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -24,7 +24,7 @@ use crate::limits::Limit;
 use crate::procedural::hypertexture::Hypertexture;
 use crate::raster::exact::{exact8, frames_at, outline_triangles, start_within, tested_lanes, Outline};
 use crate::raster::refine::{affine_uv8, refine_uv8};
-pub use crate::raster::samples::{PixelFilter, Sampler, MAX_SPP};
+pub use crate::raster::samples::{PixelFilter, Sampler, ShadingRate, MAX_SPP};
 use crate::raster::setup::{keep_triangle_buffer, triangle_buffer, ProjectedMesh, ProjectedVertex};
 use crate::raster::visibility::EMPTY;
 use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
@@ -56,6 +56,8 @@ pub struct RenderOptions {
     /// How the samples make the pixel: each is drawn in proportion to the filter's magnitude around the
     /// pixel's centre and weighs its sign (the box over the pixel by default).
     pub pixel_filter: PixelFilter,
+    /// Whether every sample is shaded, or each triangle once per pixel.
+    pub shading_rate: ShadingRate,
     /// Seeds the Sobol sampler's per-pixel scrambles: renders with different seeds are independent
     /// estimates of the same image (their difference measures the noise).
     pub seed: u32,
@@ -105,6 +107,7 @@ impl Default for RenderOptions {
             spp: 1,
             sampler: Sampler::default(),
             pixel_filter: PixelFilter::default(),
+            shading_rate: ShadingRate::default(),
             seed: 0,
             texel_location: TexelLocation::Centre,
             bump: true,
@@ -330,7 +333,12 @@ fn render_view_parts(
     let job = TileJob {
         background,
         aovs,
-        sample_cell: (1.0 / options.spp as f32).sqrt(),
+        // Shaded once per pixel, a sample stands for the whole pixel.
+        sample_cell: match options.shading_rate {
+            ShadingRate::Sample => (1.0 / options.spp as f32).sqrt(),
+            ShadingRate::Pixel => 1.0,
+        },
+        per_pixel: options.shading_rate == ShadingRate::Pixel && options.spp > 1,
         texel_location: options.texel_location,
         volumes: &scene.volumes,
         sky: scene.environment.as_ref().filter(|e| e.background && !options.transparent).map(|e| &e.map),
@@ -705,6 +713,8 @@ struct TileJob<'a> {
     aovs: Aovs,
     /// The side of one sample's cell of the pixel (1/sqrt(spp)), which scales its footprint.
     sample_cell: f32,
+    /// Whether each triangle is shaded once per pixel (`ShadingRate::Pixel`) rather than every sample.
+    per_pixel: bool,
     /// Where the samples read their textures (`RenderOptions::texel_location`).
     texel_location: TexelLocation,
     volumes: &'a [Hypertexture],
@@ -754,6 +764,7 @@ impl<'a> TileJob<'a> {
             background: Vec3::ZERO,
             aovs: Aovs::default(),
             sample_cell: 1.0,
+            per_pixel: false,
             texel_location: TexelLocation::Centre,
             volumes: &[],
             sky: None,
@@ -846,36 +857,40 @@ impl<'a> TileJob<'a> {
         if self.any_masked || self.any_replacing || scratch.vis.outline {
             self.fix_visibility(scratch, tile);
         }
-        let TileScratch { vis, shaded, sky, translucent, fragments, .. } = scratch;
+        let TileScratch { vis, shaded, sky, translucent, fragments, seen, copies, .. } = scratch;
         if let Some(env) = self.sky {
             self.sky_samples(env, vis, sky);
         }
-        // Shade every covered sample, eight of one surface at a time, into the tile's sample buffer.
+        // Shade every covered sample (or one of each triangle's in each pixel), eight of one surface at a
+        // time, into the tile's sample buffer.
         let spp = vis.spp;
         // Only covered samples are read back, and each of them is written first: no clearing needed.
         shaded.resize(vis.width * vis.height * spp, Shaded::default());
         let mut packet = Packet::default();
+        copies.clear();
         for y in 0..vis.height {
             for x in 0..vis.width {
+                let first = (y * vis.width + x) * spp;
+                if self.per_pixel {
+                    self.pixel_samples(vis, (x, y), seen, copies);
+                    for &(t, s, _) in seen.iter() {
+                        self.queue(vis, &mut packet, shaded, (first + s, t), vis.sample_position(x, y, s));
+                    }
+                    continue;
+                }
                 for s in 0..spp {
-                    let k = (y * vis.width + x) * spp + s;
-                    let t = vis.triangle[k];
-                    if t == EMPTY {
-                        continue;
-                    }
-                    let surface = self.triangles[t as usize].surface;
-                    if packet.len > 0 && packet.surface != surface {
-                        self.shade_packet(vis, &mut packet, shaded);
-                    }
-                    packet.push(surface, k, t, vis.sample_position(x, y, s));
-                    if packet.len == LANES {
-                        self.shade_packet(vis, &mut packet, shaded);
+                    let t = vis.triangle[first + s];
+                    if t != EMPTY {
+                        self.queue(vis, &mut packet, shaded, (first + s, t), vis.sample_position(x, y, s));
                     }
                 }
             }
         }
         if packet.len > 0 {
             self.shade_packet(vis, &mut packet, shaded);
+        }
+        for &(k, from) in copies.iter() {
+            shaded[k] = shaded[from];
         }
         if self.blend_bins.is_some() {
             let layers = translucent.get_or_insert_with(|| Box::new(TileScratch::new(self.bins.tile_size, spp)));
@@ -1059,6 +1074,61 @@ impl<'a> TileJob<'a> {
         );
     }
 
+    /// Adds sample `k` (tile index) on triangle `t`, at `screen`, to the packet, shading the packet first
+    /// where the sample is of another surface and after it where it is full.
+    fn queue(
+        &self,
+        vis: &mut VisBuffer,
+        packet: &mut Packet,
+        shaded: &mut [Shaded],
+        (k, t): (usize, u32),
+        screen: Vec2,
+    ) {
+        let surface = self.triangles[t as usize].surface;
+        if packet.len > 0 && packet.surface != surface {
+            self.shade_packet(vis, packet, shaded);
+        }
+        packet.push(surface, k, t, screen);
+        if packet.len == LANES {
+            self.shade_packet(vis, packet, shaded);
+        }
+    }
+
+    /// The triangles seen in tile pixel (x, y), each with the covered sample nearest the pixel's centre
+    /// (its number within the pixel and squared distance), into `seen`; every other covered sample goes
+    /// onto `copies` as (its tile index, the tile index of its triangle's chosen sample).
+    fn pixel_samples(
+        &self,
+        vis: &VisBuffer,
+        (x, y): (usize, usize),
+        seen: &mut Vec<(u32, usize, f32)>,
+        copies: &mut Vec<(usize, usize)>,
+    ) {
+        let (spp, first) = (vis.spp, (y * vis.width + x) * vis.spp);
+        let centre = Vec2::new((vis.x0 + x) as f32 + 0.5, (vis.y0 + y) as f32 + 0.5);
+        seen.clear();
+        for s in 0..spp {
+            let t = vis.triangle[first + s];
+            if t == EMPTY {
+                continue;
+            }
+            let d = vis.sample_position(x, y, s).distance_squared(centre);
+            match seen.iter_mut().find(|(seen, _, _)| *seen == t) {
+                Some(chosen) if d < chosen.2 => (chosen.1, chosen.2) = (s, d),
+                Some(_) => {}
+                None => seen.push((t, s, d)),
+            }
+        }
+        for s in 0..spp {
+            let t = vis.triangle[first + s];
+            if let Some(&(_, chosen, _)) = seen.iter().find(|(seen, _, _)| *seen == t) {
+                if chosen != s {
+                    copies.push((first + s, first + chosen));
+                }
+            }
+        }
+    }
+
     /// Interpolates, refines and shades the packet's samples, and empties it.
     fn shade_packet(&self, vis: &mut VisBuffer, packet: &mut Packet, shaded: &mut [Shaded]) {
         let (result, object) = self.with_samples(vis, packet, |inst, at| (self.shade.shade8(inst, at), inst.object));
@@ -1234,6 +1304,10 @@ struct TileScratch {
     fragments: Vec<transparent::Fragment>,
     /// Per sample, the surface and distance of the transparent pass's last fragment there.
     last: Vec<(u32, f32)>,
+    /// Shaded once per pixel: the triangles seen in the pixel at hand, each with its chosen sample.
+    seen: Vec<(u32, usize, f32)>,
+    /// Shaded once per pixel: the tile's samples that take another's shading, and whose.
+    copies: Vec<(usize, usize)>,
 }
 
 impl TileScratch {
@@ -1249,6 +1323,8 @@ impl TileScratch {
             translucent: None,
             fragments: Vec::new(),
             last: Vec::new(),
+            seen: Vec::new(),
+            copies: Vec::new(),
         }
     }
 }

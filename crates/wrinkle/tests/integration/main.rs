@@ -24,6 +24,7 @@ mod public_api;
 mod raster_reference;
 mod sampling;
 mod scene_robustness;
+mod shading_rate;
 mod shadows;
 mod spot_lights;
 mod texel_location;
