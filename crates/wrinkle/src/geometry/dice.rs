@@ -596,17 +596,17 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
     let mut places = Vec::with_capacity(sizes.len());
     let (mut positions, mut sources) = (&mut diced.positions[inner_first..], &mut diced.sources[inner_first..]);
     let (mut triangles, mut origins) = (&mut diced.triangles[..], &mut diced.origins[..]);
-    let mut first = inner_first;
+    let mut block_first = inner_first;
     for (b, &(points, count)) in sizes.iter().enumerate() {
         let (p, s, t, o);
         (p, positions) = std::mem::take(&mut positions).split_at_mut(points);
         (s, sources) = std::mem::take(&mut sources).split_at_mut(points);
         (t, triangles) = std::mem::take(&mut triangles).split_at_mut(count);
         (o, origins) = std::mem::take(&mut origins).split_at_mut(count);
-        places.push((b * BLOCK, first, p, s, t, o));
-        first += points;
+        places.push((b * BLOCK, block_first, p, s, t, o));
+        block_first += points;
     }
-    places.into_par_iter().for_each(|(start, first, positions, sources, triangles, origins)| {
+    places.into_par_iter().for_each(|(start, block_first, positions, sources, triangles, origins)| {
         let (mut part, mut point, mut triangle) = (block_parts(start), 0, 0);
         for f in start..(start + BLOCK).min(faces.len()) {
             let (halves, count) = halves(&faces[f]);
@@ -621,7 +621,7 @@ pub fn dice(base: &Base, surface: &impl DiceSurface, edge_px: f32, max_triangles
             part += 1;
             positions[point..point + points.len()].copy_from_slice(points);
             sources[point..point + points.len()].copy_from_slice(from);
-            let number = (first + point) as u32;
+            let number = (block_first + point) as u32;
             let renumber = |v: u32| if v > u32::MAX / 2 { number + (u32::MAX - v) } else { v };
             for c in inner {
                 (triangles[triangle], origins[triangle]) = (c.map(renumber), f as u32);
