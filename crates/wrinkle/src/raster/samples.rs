@@ -15,7 +15,7 @@ pub const MAX_SPP: usize = 4096;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Sampler {
     /// One jittered sample in each cell of an n x m grid (n * m = spp, as square as spp allows), the same
-    /// jitter in every pixel; one sample is the pixel's centre.
+    /// jitter in every pixel; a single sample is the pixel's centre.
     #[default]
     Stratified,
     /// The first spp points of the 2D Sobol sequence, Owen-scrambled by a hash of the pixel (Burley 2020),
