@@ -298,6 +298,17 @@ impl VisBuffer {
         Vec2::new(x as f32 + ox, y as f32 + oy)
     }
 
+    /// The sample offsets of tile pixel (x, y), from its top-left corner (fixed point).
+    #[inline]
+    pub fn sample_offsets(&self, x: usize, y: usize) -> &[[i64; 2]] {
+        self.samples.at(self.x0 + x, self.y0 + y)
+    }
+
+    /// The sample offsets that every pixel of the tile shares, where they share them.
+    pub fn shared_offsets(&self) -> Option<&[[i64; 2]]> {
+        self.samples.shared()
+    }
+
     /// The weight of sample `s` of tile pixel (x, y) under the pattern's filter (+1 or -1).
     #[inline]
     pub fn sample_weight(&self, x: usize, y: usize, s: usize, pattern: &SamplePattern) -> f32 {

@@ -27,7 +27,7 @@ use crate::raster::refine::{affine_uv8, refine_uv8};
 pub use crate::raster::samples::{PixelFilter, Sampler, ShadingRate, MAX_SPP};
 use crate::raster::setup::{keep_triangle_buffer, triangle_buffer, ProjectedMesh, ProjectedVertex};
 use crate::raster::visibility::EMPTY;
-use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer};
+use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer, SUBPIXEL};
 use crate::scene::{CameraDesc, Scene};
 use crate::shade::{AlphaMode, Ibl, MappingNeeds, ShadeContext, ShadedSample, SurfaceSamples8};
 use crate::texture::{Footprint8, TexelLocation};
@@ -857,7 +857,7 @@ impl<'a> TileJob<'a> {
         if self.any_masked || self.any_replacing || scratch.vis.outline {
             self.fix_visibility(scratch, tile);
         }
-        let TileScratch { vis, shaded, sky, translucent, fragments, seen, copies, .. } = scratch;
+        let TileScratch { vis, shaded, sky, translucent, fragments, seen, source, nearest, .. } = scratch;
         if let Some(env) = self.sky {
             self.sky_samples(env, vis, sky);
         }
@@ -867,13 +867,21 @@ impl<'a> TileJob<'a> {
         // Only covered samples are read back, and each of them is written first: no clearing needed.
         shaded.resize(vis.width * vis.height * spp, Shaded::default());
         let mut packet = Packet::default();
-        copies.clear();
+        if self.per_pixel {
+            source.resize(shaded.len(), 0);
+            if let Some(offsets) = vis.shared_offsets() {
+                nearest_first(offsets, nearest);
+            }
+        }
         for y in 0..vis.height {
             for x in 0..vis.width {
                 let first = (y * vis.width + x) * spp;
                 if self.per_pixel {
-                    self.pixel_samples(vis, (x, y), seen, copies);
-                    for &(t, s, _) in seen.iter() {
+                    if vis.shared_offsets().is_none() {
+                        nearest_first(vis.sample_offsets(x, y), nearest);
+                    }
+                    pixel_samples(vis, first, nearest, seen, source);
+                    for &(t, s) in seen.iter() {
                         self.queue(vis, &mut packet, shaded, (first + s, t), vis.sample_position(x, y, s));
                     }
                     continue;
@@ -888,9 +896,6 @@ impl<'a> TileJob<'a> {
         }
         if packet.len > 0 {
             self.shade_packet(vis, &mut packet, shaded);
-        }
-        for &(k, from) in copies.iter() {
-            shaded[k] = shaded[from];
         }
         if self.blend_bins.is_some() {
             let layers = translucent.get_or_insert_with(|| Box::new(TileScratch::new(self.bins.tile_size, spp)));
@@ -912,7 +917,8 @@ impl<'a> TileJob<'a> {
                     let weight = if signed { vis.sample_weight(x, y, s, self.pattern) } else { 1.0 };
                     let covered = vis.triangle[k] != EMPTY;
                     let seen = if covered {
-                        let sample = &shaded[k];
+                        // Shaded once per pixel, a sample takes its triangle's chosen sample's shading.
+                        let sample = &shaded[if self.per_pixel { source[k] as usize } else { k }];
                         if self.aovs.any() {
                             acc.add(&sample.shaded, sample.uv, sample.object, sample.triangle, weight);
                         }
@@ -1094,41 +1100,6 @@ impl<'a> TileJob<'a> {
         }
     }
 
-    /// The triangles seen in tile pixel (x, y), each with the covered sample nearest the pixel's centre
-    /// (its number within the pixel and squared distance), into `seen`; every other covered sample goes
-    /// onto `copies` as (its tile index, the tile index of its triangle's chosen sample).
-    fn pixel_samples(
-        &self,
-        vis: &VisBuffer,
-        (x, y): (usize, usize),
-        seen: &mut Vec<(u32, usize, f32)>,
-        copies: &mut Vec<(usize, usize)>,
-    ) {
-        let (spp, first) = (vis.spp, (y * vis.width + x) * vis.spp);
-        let centre = Vec2::new((vis.x0 + x) as f32 + 0.5, (vis.y0 + y) as f32 + 0.5);
-        seen.clear();
-        for s in 0..spp {
-            let t = vis.triangle[first + s];
-            if t == EMPTY {
-                continue;
-            }
-            let d = vis.sample_position(x, y, s).distance_squared(centre);
-            match seen.iter_mut().find(|(seen, _, _)| *seen == t) {
-                Some(chosen) if d < chosen.2 => (chosen.1, chosen.2) = (s, d),
-                Some(_) => {}
-                None => seen.push((t, s, d)),
-            }
-        }
-        for s in 0..spp {
-            let t = vis.triangle[first + s];
-            if let Some(&(_, chosen, _)) = seen.iter().find(|(seen, _, _)| *seen == t) {
-                if chosen != s {
-                    copies.push((first + s, first + chosen));
-                }
-            }
-        }
-    }
-
     /// Interpolates, refines and shades the packet's samples, and empties it.
     fn shade_packet(&self, vis: &mut VisBuffer, packet: &mut Packet, shaded: &mut [Shaded]) {
         let (result, object) = self.with_samples(vis, packet, |inst, at| (self.shade.shade8(inst, at), inst.object));
@@ -1305,9 +1276,11 @@ struct TileScratch {
     /// Per sample, the surface and distance of the transparent pass's last fragment there.
     last: Vec<(u32, f32)>,
     /// Shaded once per pixel: the triangles seen in the pixel at hand, each with its chosen sample.
-    seen: Vec<(u32, usize, f32)>,
-    /// Shaded once per pixel: the tile's samples that take another's shading, and whose.
-    copies: Vec<(usize, usize)>,
+    seen: Vec<(u32, usize)>,
+    /// Shaded once per pixel: per sample, the tile index of the sample whose shading it takes.
+    source: Vec<u32>,
+    /// Shaded once per pixel: the numbers of a pixel's samples, nearest its centre first.
+    nearest: Vec<usize>,
 }
 
 impl TileScratch {
@@ -1324,7 +1297,8 @@ impl TileScratch {
             fragments: Vec::new(),
             last: Vec::new(),
             seen: Vec::new(),
-            copies: Vec::new(),
+            source: Vec::new(),
+            nearest: Vec::new(),
         }
     }
 }
@@ -1345,6 +1319,36 @@ impl Packet {
         self.surface = surface;
         (self.samples[self.len], self.triangles[self.len], self.screen[self.len]) = (k, triangle, screen);
         self.len += 1;
+    }
+}
+
+/// The numbers of a pixel's samples at `offsets` (from its top-left corner), nearest its centre first.
+fn nearest_first(offsets: &[[i64; 2]], order: &mut Vec<usize>) {
+    let half = SUBPIXEL / 2;
+    let distance = |s: usize| (offsets[s][0] - half).pow(2) + (offsets[s][1] - half).pow(2);
+    order.clear();
+    order.extend(0..offsets.len());
+    order.sort_by_key(|&s| (distance(s), s));
+}
+
+/// The triangles seen in the tile's pixel whose first sample is `first`, each with its covered sample
+/// nearest the pixel's centre (taken in the order `nearest`), into `seen`; and for every covered sample of
+/// the pixel, the tile index of its triangle's chosen sample, into `source`.
+fn pixel_samples(vis: &VisBuffer, first: usize, nearest: &[usize], seen: &mut Vec<(u32, usize)>, source: &mut [u32]) {
+    seen.clear();
+    for &s in nearest {
+        let t = vis.triangle[first + s];
+        if t == EMPTY {
+            continue;
+        }
+        let chosen = match seen.iter().find(|&&(seen, _)| seen == t) {
+            Some(&(_, chosen)) => chosen,
+            None => {
+                seen.push((t, s));
+                s
+            }
+        };
+        source[first + s] = (first + chosen) as u32;
     }
 }
 
