@@ -824,13 +824,14 @@ impl<'a> TileJob<'a> {
     }
 
     /// The volumes in front of an opaque sample `depth` away (its distance along the ray; infinity for
-    /// the background), composited over its colour.
+    /// the background), composited over its colour; `screen` gives the sample's position, asked for only
+    /// where there are volumes.
     #[inline]
-    fn volume_pass(&self, screen: Vec2, depth: f32, behind: Vec3) -> Vec3 {
+    fn volume_pass(&self, screen: impl FnOnce() -> Vec2, depth: f32, behind: Vec3) -> Vec3 {
         if self.volumes.is_empty() {
             return behind;
         }
-        let (origin, dir) = self.camera.ray(screen);
+        let (origin, dir) = self.camera.ray(screen());
         self.volumes.iter().fold(behind, |c, v| v.composite(origin, dir, depth, c, self.lights))
     }
 
@@ -913,7 +914,7 @@ impl<'a> TileJob<'a> {
                 acc.clear();
                 for s in 0..spp {
                     let k = (y * vis.width + x) * spp + s;
-                    let screen = vis.sample_position(x, y, s);
+                    let screen = || vis.sample_position(x, y, s);
                     let weight = if signed { vis.sample_weight(x, y, s, self.pattern) } else { 1.0 };
                     let covered = vis.triangle[k] != EMPTY;
                     let seen = if covered {
