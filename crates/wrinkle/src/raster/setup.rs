@@ -66,10 +66,10 @@ pub struct ScreenTriangle {
     pub bbox: [i32; 4],
     /// Screen position of vertex 0, the origin of the planes.
     pub origin: Vec2,
-    /// Depth key (larger is nearer): 1/w for perspective, camera z for orthographic.
+    /// Depth key (larger is nearer): 1/w for perspective, camera z for orthographic. In perspective it
+    /// is also q = 1/w, the S of the barycentrics, which is not stored twice (orthographically S is 1).
     pub depth: Plane,
-    /// q = 1/w, and b1 q1, b2 q2: barycentrics are b_k = B_k / S.
-    pub s: Plane,
+    /// b1 q1 and b2 q2: barycentrics are b_k = B_k / S.
     pub b1: Plane,
     pub b2: Plane,
     pub uv: [Vec2; 3],
@@ -80,6 +80,8 @@ pub struct ScreenTriangle {
     /// Where it lies against a curved surface's outline: along it, it is widened by
     /// `exact::OUTLINE_MARGIN_PX` and samples it covers are tested against the exact surface (raster/exact.rs).
     pub outline: Outline,
+    /// Seen in perspective (else orthographically, where q is 1).
+    pub perspective: bool,
 }
 
 /// The memory of the last frame's set-up triangles, kept for the next frame: a million-triangle mesh sets up
@@ -125,7 +127,12 @@ struct TriangleId {
 #[inline]
 pub fn interpolate8(tris: &[&ScreenTriangle; LANES], x: F8, y: F8) -> Interpolated8 {
     let plane = |f: fn(&ScreenTriangle) -> &Plane| Plane8::gather(tris, f);
-    let (s, b1_plane, b2_plane) = (plane(|t| &t.s), plane(|t| &t.b1), plane(|t| &t.b2));
+    // The triangles of one frame share its projection.
+    let s = match tris[0].perspective {
+        true => plane(|t| &t.depth),
+        false => Plane8 { a0: F8::ONE, ax: F8::ZERO, ay: F8::ZERO },
+    };
+    let (b1_plane, b2_plane) = (plane(|t| &t.b1), plane(|t| &t.b2));
     let (dx, dy) = (x - gather8(tris, |t| t.origin.x), y - gather8(tris, |t| t.origin.y));
     let inv = F8::ONE / s.at(dx, dy);
     let (b1, b2) = (b1_plane.at(dx, dy) * inv, b2_plane.at(dx, dy) * inv);
@@ -349,13 +356,13 @@ impl<'a> TriangleSetup<'a> {
             bbox: bbox.map(|c| c as i32),
             origin: Vec2::new(pos[0][0] as f32, pos[0][1] as f32),
             depth: basis.plane(depth_key),
-            s: basis.plane(q),
             b1: basis.plane([0.0, q[1], 0.0]),
             b2: basis.plane([0.0, 0.0, q[2]]),
             uv: order.map(|k| tri[k].clip.uv),
             surface: id.surface,
             triangle: id.triangle,
             outline: id.outline,
+            perspective,
         }
     }
 }
