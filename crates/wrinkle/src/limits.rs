@@ -55,7 +55,11 @@ impl Limit {
     fn ceiling(self) -> u64 {
         match self {
             Limit::Memory => u64::MAX,
-            Limit::ImageSide | Limit::FrameSide => 1 << 20,
+            Limit::ImageSide => 1 << 20,
+            // A screen triangle's edge slopes are 32-bit: sides within the clip planes' guard band of
+            // 4.5 frames, in 1/256 pixel, fit for frames up to 2^18 on a side; a whole frame rendered in
+            // parts is at most 2^16.
+            Limit::FrameSide => 1 << 16,
             Limit::ImagePixels | Limit::FramePixels => 1 << 36,
             // Four of every vertex index's 2^32 must fit: 3 per triangle plus the welded copies.
             Limit::Triangles => 1 << 30,

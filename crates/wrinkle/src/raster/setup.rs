@@ -60,8 +60,10 @@ impl Plane8 {
 #[derive(Clone, Debug)]
 pub struct ScreenTriangle {
     /// Edge functions E = A x + B y + C in fixed point, E >= 0 inside, with the fill rule folded into C (one
-    /// less on the edges that do not own the samples exactly on them).
-    pub edges: [[i64; 3]; 3],
+    /// less on the edges that do not own the samples exactly on them): each edge's (A, B), 32 bits (the
+    /// guard band and `Limit::FrameSide` bound them), and its C (`edges` gives all three).
+    pub slopes: [[i32; 2]; 3],
+    pub offsets: [i64; 3],
     /// Bounding box in whole pixels, inclusive, clipped to the screen.
     pub bbox: [i32; 4],
     /// Screen position of vertex 0, the origin of the planes.
@@ -82,6 +84,14 @@ pub struct ScreenTriangle {
     pub outline: Outline,
     /// Seen in perspective (else orthographically, where q is 1).
     pub perspective: bool,
+}
+
+impl ScreenTriangle {
+    /// The edge functions as (A, B, C).
+    #[inline]
+    pub fn edges(&self) -> [[i64; 3]; 3] {
+        std::array::from_fn(|e| [self.slopes[e][0] as i64, self.slopes[e][1] as i64, self.offsets[e]])
+    }
 }
 
 /// The memory of the last frame's set-up triangles, kept for the next frame: a million-triangle mesh sets up
@@ -330,7 +340,7 @@ impl<'a> TriangleSetup<'a> {
         let Kept { order, bbox, id } = kept;
         let fx = order.map(|k| tri[k].fixed);
         let edges_at = [(1, 2), (2, 0), (0, 1)];
-        let mut edges = [[0i64; 3]; 3];
+        let (mut slopes, mut offsets) = ([[0i32; 2]; 3], [0i64; 3]);
         for (e, &(a, b)) in edges_at.iter().enumerate() {
             let (pa, pb) = (fx[a], fx[b]);
             let ca = -(pb[1] - pa[1]);
@@ -338,11 +348,12 @@ impl<'a> TriangleSetup<'a> {
             // Fill rule: a sample exactly on an edge belongs to the triangle for which (A, B) points "right or
             // down"; the neighbour across the edge has (-A, -B), so exactly one of the two owns it.
             let bias = if ca > 0 || (ca == 0 && cb > 0) { 0 } else { -1 };
-            edges[e] = [ca, cb, bias - (ca * pa[0] + cb * pa[1])];
+            debug_assert!(i32::try_from(ca).is_ok() && i32::try_from(cb).is_ok(), "edge slopes beyond 32 bits");
+            (slopes[e], offsets[e]) = ([ca as i32, cb as i32], bias - (ca * pa[0] + cb * pa[1]));
             if id.outline != Outline::Inside {
                 // Each edge moved out by the margin: E is the distance in subpixels times |(A, B)|.
                 let margin = OUTLINE_MARGIN_PX as f64 * SUBPIXEL as f64 * ((ca * ca + cb * cb) as f64).sqrt();
-                edges[e][2] += margin.ceil() as i64;
+                offsets[e] += margin.ceil() as i64;
             }
         }
         // Planes from the snapped positions, so interpolation agrees with coverage.
@@ -352,7 +363,8 @@ impl<'a> TriangleSetup<'a> {
         let depth_key = order.map(|k| if perspective { tri[k].q as f64 } else { tri[k].clip.pos.z as f64 });
         let basis = PlaneBasis::new(&pos);
         ScreenTriangle {
-            edges,
+            slopes,
+            offsets,
             bbox: bbox.map(|c| c as i32),
             origin: Vec2::new(pos[0][0] as f32, pos[0][1] as f32),
             depth: basis.plane(depth_key),

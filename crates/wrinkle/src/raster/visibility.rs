@@ -255,7 +255,7 @@ impl VisBuffer {
             }
             // The edge functions as `cover` evaluates them, so both paths agree to the bit.
             let inside = (0..3).all(|e| {
-                let [a, b, c] = tri.edges[e];
+                let [a, b, c] = tri.edges()[e];
                 let at_pixel = a * (x as i64 * SUBPIXEL) + b * (y as i64 * SUBPIXEL) + c;
                 at_pixel + a * offset[0] + b * offset[1] >= 0
             });
@@ -372,12 +372,13 @@ fn cover_same<const SPP: usize>(
     mut hit: impl FnMut(usize, usize, usize, f32, f32),
 ) {
     let Some([x_lo, x_hi, y_lo, y_hi]) = pixels_of(tri, rect) else { return };
-    let [e0, e1, e2] = tri.edges;
+    let edges = tri.edges();
+    let [e0, e1, e2] = edges;
     // Per-sample offsets of each edge function, and the sample's position relative to the triangle's origin
     // (less the pixel's).
     let offs: [[i64; 3]; SPP] = std::array::from_fn(|s| {
         let o = offsets[s];
-        std::array::from_fn(|k| tri.edges[k][0] * o[0] + tri.edges[k][1] * o[1])
+        std::array::from_fn(|k| edges[k][0] * o[0] + edges[k][1] * o[1])
     });
     let rel: [(f32, f32); SPP] = std::array::from_fn(|s| {
         let [ox, oy] = offsets[s];
@@ -410,7 +411,7 @@ fn cover_each(
     mut hit: impl FnMut(usize, usize, usize, f32, f32),
 ) {
     let Some([x_lo, x_hi, y_lo, y_hi]) = pixels_of(tri, rect) else { return };
-    let [e0, e1, e2] = tri.edges;
+    let [e0, e1, e2] = tri.edges();
     for y in y_lo..=y_hi {
         for x in x_lo..=x_hi {
             let (w0, w1, w2) = (edge_at_pixel(e0, x, y), edge_at_pixel(e1, x, y), edge_at_pixel(e2, x, y));
