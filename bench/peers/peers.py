@@ -198,13 +198,15 @@ def psnr(a_png, b_png):
     return 10 * np.log10(255 ** 2 / max(mse, 1e-12))
 
 
-def wrinkle_frame(m, scene, frames, picture, spp=1, shading_rate="sample"):
+def wrinkle_frame(m, scene, frames, picture, spp=1, shading_rate="sample", against=None):
     """wrinkle's frame of `scene` at 1920x1080 and `spp` samples: timed in-process by `wrinkle bench`, and
-    rendered once now to `picture`, which the peers' frames are compared with."""
+    rendered once now to `picture`, which the peers' frames are compared with (and which is compared with
+    `against`, the frame of another shading rate it stands in for, where given)."""
     size = ["--width", "1920", "--height", "1080", "--spp", str(spp), "--shading-rate", shading_rate]
     subprocess.run([WRINKLE, "render", scene, "-o", picture] + size, check=True, capture_output=True)
     name = "wrinkle (2 threads)" if shading_rate == "sample" else f"wrinkle (2 threads), shaded once per {shading_rate}"
-    return Tool(name, [WRINKLE, "bench", scene, "--frames", frames] + size, fields({m: "median_ms"}), picture=picture)
+    return Tool(name, [WRINKLE, "bench", scene, "--frames", frames] + size, fields({m: "median_ms"}), picture=picture,
+                against=against)
 
 
 def canonical_workload(args, work):
@@ -223,8 +225,7 @@ def canonical_workload(args, work):
             mp = metric(f"canonical bump-mapped sphere 1920x1080 {spp} spp, wrinkle shading once per pixel, frame",
                         "ms", False)
             tools.append(wrinkle_frame(mp, scene, frames, os.path.join(work, f"wrinkle_canonical_{spp}_pixel.png"),
-                                       spp, "pixel"))
-            tools[-1].against = tools[-2].picture
+                                       spp, "pixel", against=tools[-1].picture))
             ms[mp] = "median_ms"
         if python_has("moderngl", "numpy", "PIL"):
             theirs = os.path.join(work, f"llvmpipe_canonical_{spp}.png")

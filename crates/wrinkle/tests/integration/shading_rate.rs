@@ -57,7 +57,7 @@ fn each_triangle_is_shaded_once_per_pixel() {
     // light check's. Shaded once, a pixel that sees one triangle and nothing else is one of the two exactly;
     // only where the floor's two triangles, or the floor and the sky, meet does a pixel mix colours.
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/checker_floor.toml");
-    let scene = Scene::parse(&std::fs::read_to_string(&path).unwrap(), path.parent().unwrap()).unwrap();
+    let scene = Scene::load(&path).unwrap();
     let frame = |spp, shading_rate| {
         let options = RenderOptions { width: 240, height: 160, spp, shading_rate, ..RenderOptions::default() };
         render(&scene, &options).unwrap().color
