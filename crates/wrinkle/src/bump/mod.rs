@@ -2,6 +2,7 @@
 //! and their evaluation at a sample (function.rs), and the generators of the paper's figures.
 
 pub mod blinn;
+pub mod bytes;
 pub mod displacement;
 pub mod function;
 pub mod generators;

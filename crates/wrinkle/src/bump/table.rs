@@ -13,6 +13,7 @@
 //! convention). Blinn's FORTRAN bilinear FVAL puts table entries at the cell corners i/W instead: the same
 //! function shifted by half a step, which we do not copy so that nearest and bilinear agree at texel centres.
 
+use super::bytes::{decode8, HeightBytes};
 use super::lean::{SlopeMoments, Spread};
 use super::range::Ranges;
 use super::Gradient;
@@ -45,6 +46,8 @@ pub struct Gradients(Arc<Plane<f32>>);
 /// summed-area table).
 pub struct BumpTable {
     data: Filterable<Gradients>,
+    /// Level 0's heights as bytes where they are an 8-bit image's, read by the bilinear lane lookups.
+    bytes: Option<HeightBytes>,
     /// The largest |T| of the table (what a displacement by it can reach).
     largest: f32,
     /// The slopes' moments for LEAN and Toksvig filtering, built on first use.
@@ -58,8 +61,10 @@ impl BumpTable {
     pub fn new(image: &GreyImage) -> Self {
         let base = Gradients(Arc::new(Plane::from_top_rows(image.width, image.height, &image.pixels)));
         let largest = image.pixels.iter().fold(0.0f32, |m, t| m.max(t.abs()));
+        let bytes = HeightBytes::of(base.0.width, base.0.height, &base.0.texels);
         BumpTable {
             data: Filterable::new(base, MipFilter::Box, [Wrap::Repeat; 2]),
+            bytes,
             largest,
             moments: OnceLock::new(),
             ranges: OnceLock::new(),
@@ -83,6 +88,10 @@ impl BumpTable {
                 let v = height(i, row);
                 base.texels[(h - 1 - row) * w + i] = v;
                 self.largest = self.largest.max(v.abs());
+                // A height that is no 8-bit code leaves the lookups to the f32 table from now on.
+                if self.bytes.as_mut().is_some_and(|b| !b.update(i, h - 1 - row, v)) {
+                    self.bytes = None;
+                }
             }
         }
         let mut span = Span { x: (x0, x1), y: (h - y1, h - y0) };
@@ -168,10 +177,18 @@ impl BumpTable {
     #[inline]
     pub fn sample8(&self, s: F8, t: F8, interp: Interp, level: usize) -> [F8; 3] {
         let levels = self.data.levels();
-        let level = &levels[level.min(levels.len() - 1)];
-        match interp {
-            Interp::Bilinear => level.bilinear8(s, t),
-            Interp::Nearest => {
+        let index = level.min(levels.len() - 1);
+        let level = &levels[index];
+        match (interp, &self.bytes) {
+            (Interp::Bilinear, Some(bytes)) if index == 0 => {
+                let (texel, fx, fy) = level.byte_neighbourhood8(bytes, s, t);
+                level.bilinear8_of(texel, fx, fy)
+            }
+            (Interp::Bilinear, _) => {
+                let (texel, fx, fy) = level.neighbourhood_texels8(s, t);
+                level.bilinear8_of(texel, fx, fy)
+            }
+            (Interp::Nearest, _) => {
                 let (s, t) = (s.as_array_ref(), t.as_array_ref());
                 let v: [[f32; 3]; LANES] = std::array::from_fn(|i| level.lookup(s[i], t[i], interp));
                 std::array::from_fn(|k| F8::new(v.map(|v| v[k])))
@@ -222,7 +239,19 @@ impl BumpTable {
     #[inline]
     pub fn height8(&self, s: F8, t: F8, fp: &Footprint8, opts: &FilterOptions) -> F8 {
         match opts.filter {
-            Filter::Reconstruct(Kernel::Bilinear) => self.data.levels()[0].bilinear_height8(s, t),
+            Filter::Reconstruct(Kernel::Bilinear) => {
+                let level = &self.data.levels()[0];
+                match &self.bytes {
+                    Some(bytes) => {
+                        let (texel, fx, fy) = level.byte_neighbourhood8(bytes, s, t);
+                        lerp2(fx, fy, texel(1, 1), texel(1, 2), texel(2, 1), texel(2, 2))
+                    }
+                    None => {
+                        let (texel, fx, fy) = level.neighbourhood_texels8(s, t);
+                        lerp2(fx, fy, texel(1, 1), texel(1, 2), texel(2, 1), texel(2, 2))
+                    }
+                }
+            }
             _ => self.lookup8(s, t, fp, opts)[0],
         }
     }
@@ -358,18 +387,24 @@ impl Gradients {
         (move |r: usize, c: usize| gather(&self.0.texels, row_starts[r] + cols[c]), fx, fy)
     }
 
-    /// The bilinear F alone on eight lanes: the four taps of `bilinear8`'s F.
-    #[inline]
-    fn bilinear_height8(&self, s: F8, t: F8) -> F8 {
-        let (texel, fx, fy) = self.neighbourhood_texels8(s, t);
-        lerp2(fx, fy, texel(1, 1), texel(1, 2), texel(2, 1), texel(2, 2))
+    /// `neighbourhood_texels8` read from the level's heights as bytes (four gathers, one per row).
+    #[inline(always)]
+    fn byte_neighbourhood8<'a>(
+        &self,
+        bytes: &'a HeightBytes,
+        s: F8,
+        t: F8,
+    ) -> (impl Fn(usize, usize) -> F8 + 'a, F8, F8) {
+        let (cols, fx) = neighbourhood8(s, self.0.width);
+        let (rows, fy) = neighbourhood8(t, self.0.height);
+        let words = bytes.rows8(cols[1], rows[1]);
+        (move |r: usize, c: usize| decode8(words[r], c as u32), fx, fy)
     }
 
-    /// The bilinear `lookup` on eight lanes.
-    #[inline]
-    fn bilinear8(&self, s: F8, t: F8) -> [F8; 3] {
+    /// The bilinear `lookup` on eight lanes, from the texels of their 4x4 neighbourhoods and the weights.
+    #[inline(always)]
+    fn bilinear8_of(&self, texel: impl Fn(usize, usize) -> F8, fx: F8, fy: F8) -> [F8; 3] {
         let (w, h) = (self.0.width, self.0.height);
-        let (texel, fx, fy) = self.neighbourhood_texels8(s, t);
         // The twelve texels of the 4x4 neighbourhood that the three lookups read (the corners are unused).
         let (r0m, r00, r01, r02) = (texel(1, 0), texel(1, 1), texel(1, 2), texel(1, 3));
         let (r1m, r10, r11, r12) = (texel(2, 0), texel(2, 1), texel(2, 2), texel(2, 3));
@@ -541,7 +576,35 @@ mod tests {
 
     #[test]
     fn eight_lanes_equal_eight_lookups() {
-        let table = BumpTable::new(&Image::from_fn(7, 5, |x, y| ((x * 37 + y * 11) % 13) as f32 / 13.0));
+        // Heights of no 8-bit image (the f32 table), and an 8-bit image's (its bytes).
+        let real = BumpTable::new(&Image::from_fn(7, 5, |x, y| ((x * 37 + y * 11) % 13) as f32 / 13.0));
+        let eight_bit = BumpTable::new(&Image::from_fn(7, 5, |x, y| ((x * 37 + y * 11) % 256) as f32 / 255.0));
+        assert!(real.bytes.is_none() && eight_bit.bytes.is_some());
+        for table in [real, eight_bit] {
+            lanes_equal_lookups(&table);
+        }
+    }
+
+    /// An 8-bit table's lookups through its bytes give the bits of the same lookups through its f32 table.
+    #[test]
+    fn bytes_give_the_f32_tables_bits() {
+        let image = Image::from_fn(33, 17, |x, y| ((x * 91 + y * 29) % 256) as f32 / 255.0);
+        let (bytes, mut floats) = (BumpTable::new(&image), BumpTable::new(&image));
+        floats.bytes = None;
+        let fp = Footprint8 { dudx: F8::ZERO, dvdx: F8::ZERO, dudy: F8::ZERO, dvdy: F8::ZERO };
+        let opts = FilterOptions { filter: Filter::Reconstruct(Kernel::Bilinear), ..FilterOptions::default() };
+        for k in 0..200 {
+            let s = F8::new(std::array::from_fn(|i| ((k * 8 + i) as f32 * 0.618_034).fract() * 3.0 - 1.0));
+            let t = F8::new(std::array::from_fn(|i| ((k * 8 + i) as f32 * 0.414_214).fract() * 2.0 - 0.5));
+            let (a, b) = (bytes.sample8(s, t, Interp::Bilinear, 0), floats.sample8(s, t, Interp::Bilinear, 0));
+            for c in 0..3 {
+                assert_eq!(a[c].to_array().map(f32::to_bits), b[c].to_array().map(f32::to_bits));
+            }
+            assert_eq!(bytes.height8(s, t, &fp, &opts).to_array(), floats.height8(s, t, &fp, &opts).to_array());
+        }
+    }
+
+    fn lanes_equal_lookups(table: &BumpTable) {
         // Inside cells, on texel centres, across both wraps, negative and beyond one period.
         let s = F8::new([0.01, 0.2, 0.5, 0.999_99, -0.3, 1.7, 0.125, 3.0]);
         let t = F8::new([0.99, 0.0, 0.33, 0.999_99, 2.4, -0.01, 0.875, 0.5]);

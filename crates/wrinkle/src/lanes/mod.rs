@@ -50,6 +50,29 @@ pub fn gather(values: &[f32], index: I8) -> F8 {
     F8::new(index.to_array().map(|k| values[k as usize]))
 }
 
+/// The four bytes `bytes[offset..offset + 4]` per lane as one little-endian word. An offset past the last
+/// whole word reads that word instead, never memory outside.
+#[inline]
+pub fn gather_bytes4(bytes: &[u8], offset: I8) -> I8 {
+    assert!(bytes.len() >= 4, "a word gather from fewer than four bytes");
+    let offset = clamp_index(offset, bytes.len() - 3);
+    #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+    // SAFETY: AVX2 is enabled at compile time and every offset is at most len - 4 (clamped above), so the
+    // four bytes each lane reads are inside `bytes`; `I8` and `__m256i` are both eight i32.
+    unsafe {
+        use std::arch::x86_64::*;
+        std::mem::transmute::<__m256i, I8>(_mm256_i32gather_epi32::<1>(
+            bytes.as_ptr().cast(),
+            std::mem::transmute::<I8, __m256i>(offset),
+        ))
+    }
+    #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
+    I8::new(offset.to_array().map(|k| {
+        let k = k as usize;
+        i32::from_le_bytes([bytes[k], bytes[k + 1], bytes[k + 2], bytes[k + 3]])
+    }))
+}
+
 /// The four bytes `values[index]` per lane as one little-endian word each.
 ///
 /// # Safety
@@ -297,6 +320,14 @@ mod tests {
         assert_eq!(permute(v, from).to_array(), [17, 10, 13, 13, 11, 16, 12, 15]);
         let f = F8::new([0.5, -1.0, 2.25, 3.0, f32::MAX, -0.0, 6.5, 7.0]);
         assert_eq!(permute_f(f, from).to_array(), [7.0, 0.5, 3.0, 3.0, -1.0, 6.5, 2.25, -0.0]);
+    }
+
+    #[test]
+    fn byte_gathers_read_little_endian_words_inside_the_slice() {
+        let bytes: Vec<u8> = (1..=10).collect();
+        let got = gather_bytes4(&bytes, I8::new([0, 1, 6, 5, 9, -3, 2, 100])).to_array();
+        let word = |k: usize| i32::from_le_bytes([bytes[k], bytes[k + 1], bytes[k + 2], bytes[k + 3]]);
+        assert_eq!(got, [word(0), word(1), word(6), word(5), word(6), word(0), word(2), word(6)]);
     }
 
     #[test]
