@@ -36,13 +36,15 @@ impl HeightBytes {
         if width == 0 || height == 0 || stride.checked_mul(height + 3)? > i32::MAX as usize {
             return None;
         }
-        let mut bytes = HeightBytes { width, height, codes: vec![0; stride * (height + 3)] };
-        for j in 0..height {
-            for i in 0..width {
-                bytes.set(i, j, code_of(heights[j * width + i])?);
-            }
+        let table: Vec<u8> = heights.iter().map(|&v| code_of(v)).collect::<Option<_>>()?;
+        let mut codes = Vec::with_capacity(stride * (height + 3));
+        for r in 0..height + 3 {
+            let row = &table[(r + height - 1) % height * width..][..width];
+            codes.push(row[width - 1]);
+            codes.extend_from_slice(row);
+            codes.extend_from_slice(&[row[0], row[1 % width]]);
         }
-        Some(bytes)
+        Some(HeightBytes { width, height, codes })
     }
 
     /// Sets table texel (i, j) to `v` (with its wrapped copies in the padding); `false`, and the codes
