@@ -902,10 +902,15 @@ impl<'a> TileJob<'a> {
             let layers = translucent.get_or_insert_with(|| Box::new(TileScratch::new(self.bins.tile_size, spp)));
             self.translucent_fragments(layers, tile, (w, h), vis, fragments);
         }
+        let signed = self.pattern.has_negative_weights();
+        if !signed && self.volumes.is_empty() && fragments.is_empty() && !self.aovs.any() {
+            let samples = Samples { vis, shaded, source: &source[..], sky: &sky[..] };
+            self.resolve_plain(&samples, band, w);
+            return;
+        }
         // Resolve: each pixel's samples, weighted by the pixel filter's sign where it has negative lobes (the
         // samples were drawn in proportion to its magnitude).
         let inv_spp = 1.0 / spp as f32;
-        let signed = self.pattern.has_negative_weights();
         let mut acc = frame::AovSample::default();
         let mut next_fragment = 0;
         for y in 0..vis.height {
@@ -950,6 +955,31 @@ impl<'a> TileJob<'a> {
                 if self.aovs.any() {
                     aov.set(i, &acc, share, weighted);
                 }
+            }
+        }
+    }
+
+    /// The resolve of a tile with nothing but opaque samples to average (no volumes, translucent fragments,
+    /// AOVs or negative filter weights): the full resolve's arithmetic on the colours alone, in a loop a
+    /// quarter of its length (3% of the canonical frame).
+    fn resolve_plain(&self, samples: &Samples<'_>, band: &mut [[f32; 3]], w: usize) {
+        let Samples { vis, shaded, source, sky } = *samples;
+        let spp = vis.spp;
+        let inv_spp = 1.0 / spp as f32;
+        let seen = |k: usize| match vis.triangle[k] {
+            EMPTY if self.sky.is_some() => sky[k],
+            EMPTY => self.background,
+            _ => shaded[if self.per_pixel { source[k] as usize } else { k }].shaded.color,
+        };
+        for y in 0..vis.height {
+            let row = &mut band[y * w + vis.x0..][..vis.width];
+            for (x, pixel) in row.iter_mut().enumerate() {
+                let first = (y * vis.width + x) * spp;
+                let color = match spp {
+                    1 => seen(first),
+                    _ => (first..first + spp).fold(Vec3::ZERO, |sum, k| sum + seen(k)) * inv_spp,
+                };
+                *pixel = color.to_array();
             }
         }
     }
@@ -1351,6 +1381,16 @@ fn pixel_samples(vis: &VisBuffer, first: usize, nearest: &[usize], seen: &mut Ve
         };
         source[first + s] = (first + chosen) as u32;
     }
+}
+
+/// A tile's samples once shaded: which triangle each sees (`vis`), their shading (`shaded`, through
+/// `source` where each triangle is shaded once per pixel) and what the empty ones see of the environment.
+#[derive(Clone, Copy)]
+struct Samples<'a> {
+    vis: &'a VisBuffer,
+    shaded: &'a [Shaded],
+    source: &'a [u32],
+    sky: &'a [Vec3],
 }
 
 /// One shaded sample of a tile, kept until its pixel is resolved.

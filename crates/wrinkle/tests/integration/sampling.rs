@@ -9,6 +9,7 @@
 
 use crate::common::*;
 use glam::DVec3;
+use std::path::Path;
 use wrinkle::image::io::write_png_rgb8;
 use wrinkle::{render, PixelFilter, RenderOptions, Sampler, Scene};
 
@@ -159,6 +160,26 @@ fn a_crop_with_a_wide_filter_is_the_whole_frames_pixels() {
         for x in crop.x0..crop.x1 {
             let (a, b) = (whole.color[y * W + x], part.color[(y - crop.y0) * crop.width() + x - crop.x0]);
             assert!(a.map(f32::to_bits) == b.map(f32::to_bits), "pixel ({x},{y}): {a:?} whole, {b:?} cropped");
+        }
+    }
+}
+
+/// Frames whose pixels only average opaque samples take a shorter resolve than those with AOVs to fill:
+/// both give the same colours to the bit, at one sample and several, shaded per sample and per pixel,
+/// over a plain background and over the environment.
+#[test]
+fn asking_for_aovs_leaves_the_colours_as_they_are() {
+    use wrinkle::{Aovs, ShadingRate};
+    let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    for name in ["checker_floor.toml", "environment_chrome.toml"] {
+        let scene = Scene::load(&scenes.join(name)).unwrap();
+        for (spp, shading_rate) in [(1, ShadingRate::Sample), (4, ShadingRate::Sample), (4, ShadingRate::Pixel)] {
+            let options = RenderOptions { width: 96, height: 64, spp, shading_rate, ..Default::default() };
+            let plain = render(&scene, &options).unwrap();
+            let aovs = Aovs { depth: true, alpha: true, ..Aovs::default() };
+            let with_aovs = render(&scene, &RenderOptions { aovs, ..options }).unwrap();
+            let bits = |c: &[[f32; 3]]| c.iter().map(|p| p.map(f32::to_bits)).collect::<Vec<_>>();
+            assert!(bits(&plain.color) == bits(&with_aovs.color), "{name} at {spp} spp, {shading_rate:?}");
         }
     }
 }
