@@ -216,7 +216,12 @@ impl BumpTable {
     pub fn lookup8(&self, s: F8, t: F8, fp: &Footprint8, opts: &FilterOptions) -> [F8; 3] {
         match opts.filter {
             Filter::Reconstruct(Kernel::Nearest) => self.sample8(s, t, Interp::Nearest, 0),
-            Filter::Reconstruct(Kernel::Bilinear) => self.sample8(s, t, Interp::Bilinear, 0),
+            Filter::Reconstruct(Kernel::Bilinear) => {
+                if let Some(bytes) = &self.bytes {
+                    bytes.prefetch_below(s, t, fp);
+                }
+                self.sample8(s, t, Interp::Bilinear, 0)
+            }
             _ => {
                 let (s, t) = (s.as_array_ref(), t.as_array_ref());
                 let g: [Gradient; LANES] = std::array::from_fn(|i| self.lookup(s[i], t[i], &fp.lane(i), opts));
@@ -442,7 +447,7 @@ fn nearest(s: f32, n: usize) -> usize {
 /// On eight lanes: the bilinear taps of `bilinear_taps` (i0, i1 and the weight of i1) with their outer
 /// neighbours, as [i0 - 1, i0, i1, i1 + 1] wrapped into the table.
 #[inline]
-fn neighbourhood8(s: F8, n: usize) -> ([I8; 4], F8) {
+pub(super) fn neighbourhood8(s: F8, n: usize) -> ([I8; 4], F8) {
     let wrapped = s - s.floor();
     // s just below an integer can round to exactly 1.0: that is 0.
     let wrapped = wrapped.cmp_ge(F8::ONE).blend(F8::ZERO, wrapped);

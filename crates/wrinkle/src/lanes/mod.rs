@@ -50,6 +50,19 @@ pub fn gather(values: &[f32], index: I8) -> F8 {
     F8::new(index.to_array().map(|k| values[k as usize]))
 }
 
+/// Asks the cache for the line holding `values[index]`, ahead of its use; an index outside asks nothing.
+#[inline]
+pub fn prefetch<T>(values: &[T], index: usize) {
+    let Some(value) = values.get(index) else { return };
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: a prefetch never faults, and the pointer is to an element of `values`.
+    unsafe {
+        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>((value as *const T).cast())
+    };
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = value;
+}
+
 /// The four bytes `bytes[offset..offset + 4]` per lane as one little-endian word. An offset past the last
 /// whole word reads that word instead, never memory outside.
 #[inline]
