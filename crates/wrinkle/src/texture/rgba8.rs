@@ -303,14 +303,7 @@ impl TexelSource for Rgba8Plane {
     #[inline]
     fn prefetch(&self, i: usize, j: usize) {
         // A hint: a texel outside the plane is not asked for.
-        let Some(texel) = self.texels().get(block_index(i, j, self.blocks_per_row)) else { return };
-        #[cfg(target_arch = "x86_64")]
-        // SAFETY: a prefetch never faults, and the pointer is to a texel of this plane.
-        unsafe {
-            std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(texel.as_ptr().cast())
-        };
-        #[cfg(not(target_arch = "x86_64"))]
-        let _ = texel;
+        crate::lanes::prefetch(self.texels(), block_index(i, j, self.blocks_per_row));
     }
     #[inline]
     fn quad(&self, i: [usize; 2], j: [usize; 2]) -> [Vec4; 4] {
