@@ -249,11 +249,11 @@ impl BumpTable {
                 match &self.bytes {
                     Some(bytes) => {
                         let (texel, fx, fy) = level.byte_neighbourhood8(bytes, s, t);
-                        lerp2(fx, fy, texel(1, 1), texel(1, 2), texel(2, 1), texel(2, 2))
+                        bilinear_height8_of(texel, fx, fy)
                     }
                     None => {
                         let (texel, fx, fy) = level.neighbourhood_texels8(s, t);
-                        lerp2(fx, fy, texel(1, 1), texel(1, 2), texel(2, 1), texel(2, 2))
+                        bilinear_height8_of(texel, fx, fy)
                     }
                 }
             }
@@ -420,6 +420,12 @@ impl Gradients {
         let gt = lerp2(r10 - rm0, r11 - rm1, r20 - r00, r21 - r01) * F8::splat(h as f32 * 0.5);
         [f, gs, gt]
     }
+}
+
+/// The bilinear F alone on eight lanes from the texels of their 4x4 neighbourhoods (`bilinear8_of`'s F).
+#[inline(always)]
+fn bilinear_height8_of(texel: impl Fn(usize, usize) -> F8, fx: F8, fy: F8) -> F8 {
+    lerp2(fx, fy, texel(1, 1), texel(1, 2), texel(2, 1), texel(2, 2))
 }
 
 /// Bilinear interpolation with weights (fx, fy) between a, b (the lower row) and c, d (the upper), of one

@@ -902,9 +902,15 @@ impl<'a> TileJob<'a> {
             let layers = translucent.get_or_insert_with(|| Box::new(TileScratch::new(self.bins.tile_size, spp)));
             self.translucent_fragments(layers, tile, (w, h), vis, fragments);
         }
+        let samples = Samples {
+            vis,
+            shaded,
+            source: self.per_pixel.then_some(&source[..]),
+            sky: self.sky.map(|_| &sky[..]),
+            background: self.background,
+        };
         let signed = self.pattern.has_negative_weights();
         if !signed && self.volumes.is_empty() && fragments.is_empty() && !self.aovs.any() {
-            let samples = Samples { vis, shaded, source: &source[..], sky: &sky[..] };
             self.resolve_plain(&samples, band, w);
             return;
         }
@@ -923,15 +929,13 @@ impl<'a> TileJob<'a> {
                     let weight = if signed { vis.sample_weight(x, y, s, self.pattern) } else { 1.0 };
                     let covered = vis.triangle[k] != EMPTY;
                     let seen = if covered {
-                        // Shaded once per pixel, a sample takes its triangle's chosen sample's shading.
-                        let sample = &shaded[if self.per_pixel { source[k] as usize } else { k }];
+                        let sample = samples.shading(k);
                         if self.aovs.any() {
                             acc.add(&sample.shaded, sample.uv, sample.object, sample.triangle, weight);
                         }
                         self.volume_pass(screen, sample.shaded.depth, sample.shaded.color)
                     } else {
-                        let behind = if self.sky.is_some() { sky[k] } else { self.background };
-                        self.volume_pass(screen, f32::INFINITY, behind)
+                        self.volume_pass(screen, f32::INFINITY, samples.behind(k))
                     };
                     let (seen, next) =
                         transparent::composite(fragments, next_fragment, k, seen, covered, weight, &mut acc);
@@ -963,23 +967,18 @@ impl<'a> TileJob<'a> {
     /// AOVs or negative filter weights): the full resolve's arithmetic on the colours alone, in a loop a
     /// quarter of its length (3% of the canonical frame).
     fn resolve_plain(&self, samples: &Samples<'_>, band: &mut [[f32; 3]], w: usize) {
-        let Samples { vis, shaded, source, sky } = *samples;
+        let vis = samples.vis;
         let spp = vis.spp;
         let inv_spp = 1.0 / spp as f32;
         let seen = |k: usize| match vis.triangle[k] {
-            EMPTY if self.sky.is_some() => sky[k],
-            EMPTY => self.background,
-            _ => shaded[if self.per_pixel { source[k] as usize } else { k }].shaded.color,
+            EMPTY => samples.behind(k),
+            _ => samples.shading(k).shaded.color,
         };
         for y in 0..vis.height {
             let row = &mut band[y * w + vis.x0..][..vis.width];
             for (x, pixel) in row.iter_mut().enumerate() {
                 let first = (y * vis.width + x) * spp;
-                let color = match spp {
-                    1 => seen(first),
-                    _ => (first..first + spp).fold(Vec3::ZERO, |sum, k| sum + seen(k)) * inv_spp,
-                };
-                *pixel = color.to_array();
+                *pixel = ((first..first + spp).fold(Vec3::ZERO, |sum, k| sum + seen(k)) * inv_spp).to_array();
             }
         }
     }
@@ -1384,13 +1383,29 @@ fn pixel_samples(vis: &VisBuffer, first: usize, nearest: &[usize], seen: &mut Ve
 }
 
 /// A tile's samples once shaded: which triangle each sees (`vis`), their shading (`shaded`, through
-/// `source` where each triangle is shaded once per pixel) and what the empty ones see of the environment.
-#[derive(Clone, Copy)]
+/// `source` where each triangle is shaded once per pixel) and what the empty ones see: the environment
+/// along their rays (`sky`, where it is the background), else the background colour.
 struct Samples<'a> {
     vis: &'a VisBuffer,
     shaded: &'a [Shaded],
-    source: &'a [u32],
-    sky: &'a [Vec3],
+    source: Option<&'a [u32]>,
+    sky: Option<&'a [Vec3]>,
+    background: Vec3,
+}
+
+impl Samples<'_> {
+    /// The shading covered sample `k` shows: its own, or shaded once per pixel, its triangle's chosen
+    /// sample's.
+    #[inline]
+    fn shading(&self, k: usize) -> &Shaded {
+        &self.shaded[self.source.map_or(k, |source| source[k] as usize)]
+    }
+
+    /// What empty sample `k` sees.
+    #[inline]
+    fn behind(&self, k: usize) -> Vec3 {
+        self.sky.map_or(self.background, |sky| sky[k])
+    }
 }
 
 /// One shaded sample of a tile, kept until its pixel is resolved.
