@@ -280,23 +280,25 @@ impl<'a> TriangleSetup<'a> {
 
     /// Calls `visit` with each triangle the setup keeps (each piece of one that is clipped) and what it
     /// keeps of it.
-    fn each_kept(&mut self, mesh: ProjectedMesh, mut visit: impl FnMut(&Self, &[ProjectedVertex; 3], Kept)) {
+    fn each_kept(&mut self, mesh: ProjectedMesh, mut visit: impl FnMut(&Self, [&ProjectedVertex; 3], Kept)) {
         let ProjectedMesh { vertices, triangles, surface, first, cull, outline } = mesh;
         let mut poly = std::mem::take(&mut self.polygon);
         for (k, t) in triangles.iter().enumerate() {
             let outline = outline.map_or(Outline::Inside, |o| o[k]);
             let id = TriangleId { surface, triangle: first + k as u32, outline };
-            let tri = t.map(|k| vertices[k as usize]);
+            // By reference: copies of the vertices, read back at once, stalled the store forwarding.
+            let tri = t.map(|k| &vertices[k as usize]);
             if tri.iter().all(|v| v.inside) {
-                if let Some(kept) = self.keep(&tri, id, cull) {
-                    visit(self, &tri, kept);
+                if let Some(kept) = self.keep(tri, id, cull) {
+                    visit(self, tri, kept);
                 }
             } else {
                 clip_polygon(&self.planes, &tri.map(|v| v.clip), &mut poly);
                 for k in 1..poly.len().saturating_sub(1) {
                     let piece = [poly[0], poly[k], poly[k + 1]].map(|c| self.project(c));
-                    if let Some(kept) = self.keep(&piece, id, cull) {
-                        visit(self, &piece, kept);
+                    let piece = [&piece[0], &piece[1], &piece[2]];
+                    if let Some(kept) = self.keep(piece, id, cull) {
+                        visit(self, piece, kept);
                     }
                 }
             }
@@ -307,7 +309,7 @@ impl<'a> TriangleSetup<'a> {
     /// Whether the triangle is kept (it covers some area, faces the way `cull` keeps, and its box meets the
     /// screen), and if so its vertices' order and box.
     #[inline]
-    fn keep(&self, tri: &[ProjectedVertex; 3], id: TriangleId, cull: Cull) -> Option<Kept> {
+    fn keep(&self, tri: [&ProjectedVertex; 3], id: TriangleId, cull: Cull) -> Option<Kept> {
         let fixed = tri.map(|v| v.fixed);
         let area = edge_at(fixed[0], fixed[1], fixed[2]);
         if area == 0 {
@@ -336,7 +338,7 @@ impl<'a> TriangleSetup<'a> {
     }
 
     /// The kept triangle's edge functions and planes.
-    fn finish(&self, tri: &[ProjectedVertex; 3], kept: Kept) -> ScreenTriangle {
+    fn finish(&self, tri: [&ProjectedVertex; 3], kept: Kept) -> ScreenTriangle {
         let Kept { order, bbox, id } = kept;
         let fx = order.map(|k| tri[k].fixed);
         let edges_at = [(1, 2), (2, 0), (0, 1)];
