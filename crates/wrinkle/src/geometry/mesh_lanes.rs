@@ -76,13 +76,9 @@ pub fn sample8(mesh: &TriangleMesh, tris: &[u32; LANES], rays: &Rays8, second_se
     let gather = |data: &[Vec3], c: usize| V3::from_lanes(&std::array::from_fn(|l| data[corners[c][l]]));
     let (v0, v1, v2) = (gather(&mesh.positions, 0), gather(&mesh.positions, 1), gather(&mesh.positions, 2));
     let (n0, n1, n2) = (gather(&mesh.normals, 0), gather(&mesh.normals, 1), gather(&mesh.normals, 2));
-    let corner_uvs = |set: usize| {
-        let uvs = mesh.uvs(set);
-        let uv = |c: usize| {
-            let at: [Vec2; LANES] = std::array::from_fn(|l| uvs.map_or(Vec2::ZERO, |u| u[corners[c][l]]));
-            (F8::new(at.map(|p| p.x)), F8::new(at.map(|p| p.y)))
-        };
-        (uv(0), uv(1), uv(2))
+    let corner_uvs = |set: usize| match mesh.uvs(set) {
+        Some(uvs) => (gather_uv(uvs, &corners[0]), gather_uv(uvs, &corners[1]), gather_uv(uvs, &corners[2])),
+        None => ((F8::ZERO, F8::ZERO), (F8::ZERO, F8::ZERO), (F8::ZERO, F8::ZERO)),
     };
     let (uv0, uv1, uv2) = corner_uvs(0);
 
@@ -159,11 +155,9 @@ pub fn sample8(mesh: &TriangleMesh, tris: &[u32; LANES], rays: &Rays8, second_se
     let (tangent, tangent_sign) = if mesh.tangents.is_empty() {
         (pu.normalize_or_zero(), side)
     } else {
-        let t = |c: usize| {
-            let at = corners[c].map(|k| mesh.tangents[k]);
-            (V3::from_lanes(&at.map(|t| t.truncate())), F8::new(at.map(|t| t.w)))
-        };
-        let ((t0, w0), (t1, _), (t2, _)) = (t(0), t(1), t(2));
+        let t = |c: usize| V3::from_lanes(&std::array::from_fn(|l| mesh.tangents[corners[c][l]].truncate()));
+        let (t0, t1, t2) = (t(0), t(1), t(2));
+        let w0 = F8::new(std::array::from_fn(|l| mesh.tangents[corners[0][l]].w));
         (flat(t0 * b0 + t1 * b1 + t2 * b2).normalize_or_zero(), w0)
     };
     let zero = V3::splat(Vec3::ZERO);
@@ -174,6 +168,12 @@ pub fn sample8(mesh: &TriangleMesh, tris: &[u32; LANES], rays: &Rays8, second_se
         uv1,
         orientation: MeshFrame8 { side, tangent, tangent_sign, dpdx, dpdy, normal_change },
     }
+}
+
+/// The texture coordinates `uvs[at[l]]` of each lane l, as (u, v) lanes.
+#[inline(always)]
+fn gather_uv(uvs: &[Vec2], at: &[usize; LANES]) -> (F8, F8) {
+    (F8::new(std::array::from_fn(|l| uvs[at[l]].x)), F8::new(std::array::from_fn(|l| uvs[at[l]].y)))
 }
 
 #[cfg(test)]

@@ -340,7 +340,9 @@ impl<'a> TriangleSetup<'a> {
     /// The kept triangle's edge functions and planes.
     fn finish(&self, tri: [&ProjectedVertex; 3], kept: Kept) -> ScreenTriangle {
         let Kept { order, bbox, id } = kept;
-        let fx = order.map(|k| tri[k].fixed);
+        // Indexed outright: arrays' `map` with closures was left as calls.
+        let v = [tri[order[0]], tri[order[1]], tri[order[2]]];
+        let fx = [v[0].fixed, v[1].fixed, v[2].fixed];
         let edges_at = [(1, 2), (2, 0), (0, 1)];
         let (mut slopes, mut offsets) = ([[0i32; 2]; 3], [0i64; 3]);
         for (e, &(a, b)) in edges_at.iter().enumerate() {
@@ -359,10 +361,13 @@ impl<'a> TriangleSetup<'a> {
             }
         }
         // Planes from the snapped positions, so interpolation agrees with coverage.
-        let pos = fx.map(|p| [p[0] as f64 / SUBPIXEL as f64, p[1] as f64 / SUBPIXEL as f64]);
-        let q = order.map(|k| tri[k].q as f64);
+        let pos = std::array::from_fn(|k| fx[k].map(|c| c as f64 / SUBPIXEL as f64));
+        let q = [v[0].q as f64, v[1].q as f64, v[2].q as f64];
         let perspective = self.camera.is_perspective();
-        let depth_key = order.map(|k| if perspective { tri[k].q as f64 } else { tri[k].clip.pos.z as f64 });
+        let depth_key = match perspective {
+            true => q,
+            false => [v[0].clip.pos.z as f64, v[1].clip.pos.z as f64, v[2].clip.pos.z as f64],
+        };
         let basis = PlaneBasis::new(&pos);
         ScreenTriangle {
             slopes,
@@ -372,7 +377,7 @@ impl<'a> TriangleSetup<'a> {
             depth: basis.plane(depth_key),
             b1: basis.plane([0.0, q[1], 0.0]),
             b2: basis.plane([0.0, 0.0, q[2]]),
-            uv: order.map(|k| tri[k].clip.uv),
+            uv: [v[0].clip.uv, v[1].clip.uv, v[2].clip.uv],
             surface: id.surface,
             triangle: id.triangle,
             outline: id.outline,
