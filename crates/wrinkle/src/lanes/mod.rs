@@ -50,17 +50,24 @@ pub fn gather(values: &[f32], index: I8) -> F8 {
     F8::new(index.to_array().map(|k| values[k as usize]))
 }
 
-/// Asks the cache for the line holding `values[index]`, ahead of its use; an index outside asks nothing.
+/// Asks the cache for the lines holding `values[index]`, ahead of its use; an index outside asks nothing.
 #[inline]
 pub fn prefetch<T>(values: &[T], index: usize) {
+    const LINE: usize = 64;
     let Some(value) = values.get(index) else { return };
-    #[cfg(target_arch = "x86_64")]
-    // SAFETY: a prefetch never faults, and the pointer is to an element of `values`.
-    unsafe {
-        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>((value as *const T).cast())
-    };
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = value;
+    let start = (value as *const T).cast::<u8>();
+    // The first byte's line; for an element longer than a line, each a line on and the last byte's.
+    let size = std::mem::size_of::<T>();
+    let last = (size > LINE).then(|| size - 1);
+    for offset in (0..size.max(1)).step_by(LINE).chain(last) {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: a prefetch never faults, and the address is a byte of the element.
+        unsafe {
+            std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(start.add(offset).cast())
+        };
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = (start, offset);
+    }
 }
 
 /// The four bytes `bytes[offset..offset + 4]` per lane as one little-endian word. An offset past the last

@@ -1,12 +1,12 @@
-//! The visibility buffer of one screen tile: for each sample, the depth key, the triangle, the object and
-//! the perspective-correct barycentrics of the nearest surface. Tiles are independent, so they render in
+//! The visibility buffer of one screen tile: for each sample, the depth key and the triangle of the nearest
+//! surface. Tiles are independent, so they render in
 //! parallel; triangles are binned to the tiles their bounding boxes touch.
 
 use super::exact::Outline;
 use super::samples::{SamplePattern, TileOffsets};
-use super::setup::{interpolate8, Interpolated8, ScreenTriangle};
+use super::setup::ScreenTriangle;
 use super::SUBPIXEL;
-use crate::lanes::{F8, LANES};
+use crate::lanes::prefetch;
 use glam::Vec2;
 use rayon::prelude::*;
 
@@ -75,10 +75,6 @@ pub struct VisBuffer {
     pub spp: usize,
     pub depth: Vec<f32>,
     pub triangle: Vec<u32>,
-    /// Filled as the samples are shaded; kept for picking (the item buffer of 3D painting), not read by the
-    /// renderer itself.
-    pub object: Vec<u32>,
-    pub bary: Vec<[f32; 2]>,
     /// Whether a triangle along a curved surface's outline reaches the tile (its samples then get the
     /// exact test), and per sample the (u,v) where the test found the sample's ray meets the surface.
     pub outline: bool,
@@ -104,8 +100,6 @@ impl VisBuffer {
             spp,
             depth: vec![f32::NEG_INFINITY; n],
             triangle: vec![EMPTY; n],
-            object: vec![EMPTY; n],
-            bary: vec![[0.0; 2]; n],
             outline: false,
             exact_uv: vec![[0.0; 2]; n],
             refused: Vec::new(),
@@ -115,8 +109,7 @@ impl VisBuffer {
         }
     }
 
-    /// Rasterizes every triangle binned to tile (tx, ty): depth and triangle per sample. The barycentrics
-    /// and objects are filled in by `resolve`, sample by sample, as they are shaded.
+    /// Rasterizes every triangle binned to tile (tx, ty): depth and triangle per sample.
     pub fn render_tile(
         &mut self,
         bins: &Bins,
@@ -127,7 +120,13 @@ impl VisBuffer {
     ) {
         self.begin_tile(bins.tile_size, tile, screen, pattern);
         self.outline = false;
-        for &t in &bins.bins[tile.1 * bins.tiles_x + tile.0] {
+        // Small triangles are a few samples of work each: their records come from memory, asked for ahead.
+        const AHEAD: usize = 8;
+        let bin = &bins.bins[tile.1 * bins.tiles_x + tile.0];
+        for (i, &t) in bin.iter().enumerate() {
+            if let Some(&next) = bin.get(i + AHEAD) {
+                prefetch(triangles, next as usize);
+            }
             let tri = &triangles[t as usize];
             self.outline |= tri.outline != Outline::Inside;
             self.rasterize(tri, t);
@@ -268,26 +267,6 @@ impl VisBuffer {
             }
         }
         (self.depth[k], self.triangle[k]) = best;
-    }
-
-    /// Interpolates eight samples (lane i: sample `k[i]` on `tris[i]`, at screen position (x, y)) and records
-    /// their barycentrics and object.
-    #[inline(always)]
-    pub fn resolve8(
-        &mut self,
-        k: &[usize; LANES],
-        tris: &[&ScreenTriangle; LANES],
-        object: u32,
-        x: F8,
-        y: F8,
-    ) -> Interpolated8 {
-        let at = interpolate8(tris, x, y);
-        let (b1, b2) = (at.bary[0].as_array_ref(), at.bary[1].as_array_ref());
-        for (i, &k) in k.iter().enumerate() {
-            self.bary[k] = [b1[i], b2[i]];
-            self.object[k] = object;
-        }
-        at
     }
 
     /// The screen position of sample `s` of tile pixel (x, y).

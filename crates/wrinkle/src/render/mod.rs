@@ -25,7 +25,7 @@ use crate::procedural::hypertexture::Hypertexture;
 use crate::raster::exact::{exact8, frames_at, outline_triangles, start_within, tested_lanes, Outline};
 use crate::raster::refine::{affine_uv8, refine_uv8};
 pub use crate::raster::samples::{PixelFilter, Sampler, ShadingRate, MAX_SPP};
-use crate::raster::setup::{keep_triangle_buffer, triangle_buffer, ProjectedMesh, ProjectedVertex};
+use crate::raster::setup::{interpolate8, keep_triangle_buffer, triangle_buffer, ProjectedMesh, ProjectedVertex};
 use crate::raster::visibility::EMPTY;
 use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer, SUBPIXEL};
 use crate::scene::{CameraDesc, Scene};
@@ -987,13 +987,12 @@ impl<'a> TileJob<'a> {
     #[inline(always)]
     fn with_samples<R>(
         &self,
-        vis: &mut VisBuffer,
+        vis: &VisBuffer,
         packet: &Packet,
         then: impl FnOnce(&Instance, &SurfaceSamples8<'_>) -> R,
     ) -> R {
         let inst = &self.instances[packet.surface as usize];
         let (samples, tris, (sx, sy)) = self.lanes_of(packet);
-        let at = vis.resolve8(&samples, &tris, inst.object, sx, sy);
         // Each of the spp stratified samples stands for its own 1/spp of the pixel: the texture filters
         // integrate over that cell, not the whole pixel again.
         let triangles = tris.map(|t| t.triangle);
@@ -1001,6 +1000,7 @@ impl<'a> TileJob<'a> {
         let (parametric, mesh_sample);
         let samples = match &inst.primitive {
             Primitive::Parametric(surface) => {
+                let at = interpolate8(&tris, sx, sy);
                 let max_step = self.max_steps[packet.surface as usize];
                 // Affine (u,v) name the surface off the sample's ray: no step moves them onto it. Nor do
                 // diced ones (no steps): the ray meets the displaced surface, not P(u,v).
@@ -1079,8 +1079,8 @@ impl<'a> TileJob<'a> {
             |vis, packet| {
                 let inst = &self.instances[packet.surface as usize];
                 let Primitive::Parametric(surface) = &inst.primitive else { unreachable!("outlines are of surfaces") };
-                let (samples, tris, screen) = self.lanes_of(packet);
-                let at = vis.resolve8(&samples, &tris, inst.object, screen.0, screen.1);
+                let (_, tris, screen) = self.lanes_of(packet);
+                let at = interpolate8(&tris, screen.0, screen.1);
                 let max_step = self.max_steps[packet.surface as usize];
                 let tested = tested_lanes(tris.map(|t| t.outline), at.bary, packet.len);
                 if tested == 0 {
