@@ -37,12 +37,15 @@ impl Bins {
         keep: impl Fn(&ScreenTriangle) -> bool + Sync,
     ) -> Bins {
         const CHUNK: usize = 1 << 16;
+        assert!(tile_size.is_power_of_two(), "tiles are a power of two on a side");
+        // A shift, not a division: a million small triangles are four million of them.
+        let shift = tile_size.trailing_zeros();
         let tiles_x = width.div_ceil(tile_size);
         let tiles_y = height.div_ceil(tile_size);
         let bin_chunk = |first: usize, chunk: &[ScreenTriangle]| {
             let mut bins = vec![Vec::new(); tiles_x * tiles_y];
             for (i, t) in chunk.iter().enumerate().filter(|(_, t)| keep(t)) {
-                let [x0, y0, x1, y1] = t.bbox.map(|c| c as usize / tile_size);
+                let [x0, y0, x1, y1] = t.bbox.map(|c| c as usize >> shift);
                 for ty in y0..=y1 {
                     for tx in x0..=x1 {
                         bins[ty * tiles_x + tx].push((first + i) as u32);
