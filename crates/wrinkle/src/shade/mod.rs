@@ -173,30 +173,28 @@ impl ShadeContext<'_> {
         surface: &'s SurfaceLanes<'s>,
         at: &SurfaceSamples8<'_>,
     ) -> (LookupContext8<'s>, Option<F8>) {
-        let ctx = LookupContext8 { surface, u: at.uv.0, v: at.uv.1, footprint: at.footprint };
-        match material.bump.as_ref().filter(|_| self.bump_enabled) {
-            Some(bump) if bump.parallax.is_some() => self.parallax(inst, bump, ctx),
-            _ => (ctx, None),
-        }
+        // Moved in place: choosing between a moved copy and the first one stalled the store forwarding.
+        let mut ctx = LookupContext8 { surface, u: at.uv.0, v: at.uv.1, footprint: at.footprint };
+        let travel = match material.bump.as_ref().filter(|_| self.bump_enabled) {
+            Some(bump) if bump.parallax.is_some() => self.parallax(inst, bump, &mut ctx),
+            _ => None,
+        };
+        (ctx, travel)
     }
 
-    /// `ctx` moved to where each view ray meets the bump's height field, and the travel there (world units).
+    /// Moves `ctx` to where each view ray meets the bump's height field; the travel there (world units).
     #[inline(never)]
-    fn parallax<'s>(
-        &self,
-        inst: &Instance,
-        bump: &BumpMap,
-        ctx: LookupContext8<'s>,
-    ) -> (LookupContext8<'s>, Option<F8>) {
-        let Some(parallax) = bump.parallax else { return (ctx, None) };
+    fn parallax(&self, inst: &Instance, bump: &BumpMap, ctx: &mut LookupContext8<'_>) -> Option<F8> {
+        let Some(parallax) = bump.parallax else { return None };
         let to_eye = match self.ortho_to_eye {
             Some(_) => V3::splat(inst.camera_to_object.transform_vector3(Vec3::Z)),
             None => V3::splat(inst.camera_to_object.transform_point3(Vec3::ZERO)) - ctx.surface.p,
         };
-        let crossing = parallax.trace8(bump, &ctx, to_eye, &self.bump_filter_of(bump));
+        let crossing = parallax.trace8(bump, ctx, to_eye, &self.bump_filter_of(bump));
+        (ctx.u, ctx.v) = (crossing.u, crossing.v);
         // The travel in world units: the object's transform may scale.
         let stretch = V3::transform_vector(&inst.object_to_world, to_eye.normalize_or_zero()).length();
-        (LookupContext8 { u: crossing.u, v: crossing.v, ..ctx }, Some(crossing.travel * stretch))
+        Some(crossing.travel * stretch)
     }
 
     /// Where a parallax-mapped surface with depth replacement is seen at eight samples: how much farther
