@@ -232,17 +232,24 @@ impl<'a> TriangleSetup<'a> {
         // Big meshes in parallel chunks: one mesh is often the whole scene.
         const CHUNK: usize = 1 << 14;
         let uv = |k: usize| uvs.map_or(Vec2::ZERO, |u| u[k]);
-        let mut out = Vec::with_capacity(positions.len());
-        out.par_extend(
-            positions
-                .par_iter()
-                .enumerate()
-                .with_min_len(CHUNK)
-                .map(|(k, &p)| self.project(ClipVertex { pos: object_to_camera.transform_point3(p), uv: uv(k) })),
+        let n = positions.len();
+        let mut out = Vec::with_capacity(n);
+        // Each vertex stored where it belongs: collected through rayon's consumer, it went through the
+        // stack and was read back in wider pieces than it was written, which stalled the store forwarding.
+        out.spare_capacity_mut()[..n].par_chunks_mut(CHUNK).zip(positions.par_chunks(CHUNK)).enumerate().for_each(
+            |(c, (to, from))| {
+                for (i, (to, &p)) in to.iter_mut().zip(from).enumerate() {
+                    let clip = ClipVertex { pos: object_to_camera.transform_point3(p), uv: uv(c * CHUNK + i) };
+                    to.write(self.project(clip));
+                }
+            },
         );
+        // SAFETY: the chunks tile the first n slots, and each slot of each chunk was written.
+        unsafe { out.set_len(n) };
         out
     }
 
+    #[inline(always)]
     fn project(&self, clip: ClipVertex) -> ProjectedVertex {
         let inside = inside_all(&self.planes, &clip.pos);
         let (screen, q) = self.camera.project(clip.pos);
