@@ -263,49 +263,61 @@ impl<'a> TriangleSetup<'a> {
     #[cfg(any(test, feature = "internals"))]
     pub fn triangles_of(&mut self, mesh: ProjectedMesh) -> Vec<ScreenTriangle> {
         let mut out = Vec::with_capacity(mesh.triangles.len());
-        self.each_kept(mesh, |setup, tri, kept| out.push(setup.finish(tri, kept)));
+        self.each_kept(mesh, 0..mesh.triangles.len(), |setup, tri, kept, _| out.push(setup.finish(tri, kept)));
         out
     }
 
-    /// How many triangles of a projected mesh the setup keeps (clipped pieces counted one by one).
-    pub fn count_triangles(&mut self, mesh: ProjectedMesh) -> usize {
+    /// How many triangles of a projected mesh the setup keeps (clipped pieces counted one by one); `kept`
+    /// gets a bit for each triangle of the mesh that gives any.
+    pub fn count_triangles(&mut self, mesh: ProjectedMesh, kept: &mut Vec<u64>) -> usize {
+        kept.clear();
+        kept.resize(mesh.triangles.len().div_ceil(64), 0);
         let mut count = 0;
-        self.each_kept(mesh, |_, _, _| count += 1);
+        self.each_kept(mesh, 0..mesh.triangles.len(), |_, _, _, k| {
+            kept[k / 64] |= 1 << (k % 64);
+            count += 1;
+        });
         count
     }
 
     /// Writes into `out` the triangles of a projected mesh set up, which `count_triangles` counted to
-    /// exactly `out.len()`; panics where they are not as many.
-    pub fn write_triangles(&mut self, mesh: ProjectedMesh, out: &mut [MaybeUninit<ScreenTriangle>]) {
+    /// exactly `out.len()` and marked in `kept` (so that those culled are not visited again); panics where
+    /// they are not as many.
+    pub fn write_triangles(&mut self, mesh: ProjectedMesh, kept: &[u64], out: &mut [MaybeUninit<ScreenTriangle>]) {
         let mut n = 0;
-        self.each_kept(mesh, |setup, tri, kept| {
+        self.each_kept(mesh, set_bits(kept), |setup, tri, kept, _| {
             out[n].write(setup.finish(tri, kept));
             n += 1;
         });
         assert_eq!(n, out.len(), "triangle setup counted otherwise than it wrote");
     }
 
-    /// Calls `visit` with each triangle the setup keeps (each piece of one that is clipped) and what it
-    /// keeps of it.
-    fn each_kept(&mut self, mesh: ProjectedMesh, mut visit: impl FnMut(&Self, [&ProjectedVertex; 3], Kept)) {
+    /// Calls `visit` with each triangle among `which` (indices into the mesh's triangles) that the setup
+    /// keeps (each piece of one that is clipped), what it keeps of it and its index.
+    fn each_kept(
+        &mut self,
+        mesh: ProjectedMesh,
+        which: impl Iterator<Item = usize>,
+        mut visit: impl FnMut(&Self, [&ProjectedVertex; 3], Kept, usize),
+    ) {
         let ProjectedMesh { vertices, triangles, surface, first, cull, outline } = mesh;
         let mut poly = std::mem::take(&mut self.polygon);
-        for (k, t) in triangles.iter().enumerate() {
+        for k in which {
             let outline = outline.map_or(Outline::Inside, |o| o[k]);
             let id = TriangleId { surface, triangle: first + k as u32, outline };
             // By reference: copies of the vertices, read back at once, stalled the store forwarding.
-            let tri = t.map(|k| &vertices[k as usize]);
+            let tri = triangles[k].map(|v| &vertices[v as usize]);
             if tri.iter().all(|v| v.inside) {
                 if let Some(kept) = self.keep(tri, id, cull) {
-                    visit(self, tri, kept);
+                    visit(self, tri, kept, k);
                 }
             } else {
                 clip_polygon(&self.planes, &tri.map(|v| v.clip), &mut poly);
-                for k in 1..poly.len().saturating_sub(1) {
-                    let piece = [poly[0], poly[k], poly[k + 1]].map(|c| self.project(c));
+                for p in 1..poly.len().saturating_sub(1) {
+                    let piece = [poly[0], poly[p], poly[p + 1]].map(|c| self.project(c));
                     let piece = [&piece[0], &piece[1], &piece[2]];
                     if let Some(kept) = self.keep(piece, id, cull) {
-                        visit(self, piece, kept);
+                        visit(self, piece, kept, k);
                     }
                 }
             }
@@ -402,6 +414,14 @@ struct Kept {
     id: TriangleId,
 }
 
+/// The indices of the set bits of `words`, lowest first (bit i of word w is index 64 w + i).
+fn set_bits(words: &[u64]) -> impl Iterator<Item = usize> + '_ {
+    words.iter().enumerate().flat_map(|(w, &word)| {
+        std::iter::successors(Some(word).filter(|&b| b != 0), |&b| Some(b & (b - 1)).filter(|&b| b != 0))
+            .map(move |b| w * 64 + b.trailing_zeros() as usize)
+    })
+}
+
 /// The edge function of a-b at p (twice the signed area of a, b, p), in fixed point.
 #[inline]
 fn edge_at(a: [i64; 2], b: [i64; 2], p: [i64; 2]) -> i64 {
@@ -438,6 +458,14 @@ impl PlaneBasis {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn set_bits_are_the_indices_of_the_ones() {
+        let words = [0b1011u64, 0, 1 << 63, u64::MAX];
+        let want: Vec<usize> = [0, 1, 3, 191].into_iter().chain(192..256).collect();
+        assert_eq!(set_bits(&words).collect::<Vec<_>>(), want);
+        assert_eq!(set_bits(&[]).count(), 0);
+    }
 
     #[test]
     fn plane_reproduces_vertex_values() {

@@ -670,17 +670,26 @@ fn setup_triangles(
         }
     };
     let setup = || TriangleSetup::new(camera).reaching(reach);
-    let counts: Vec<usize> = jobs.par_iter().map(|j| setup().count_triangles(part(j))).collect();
-    let total = counts.iter().sum();
+    let counts: Vec<(usize, Vec<u64>)> = jobs
+        .par_iter()
+        .map(|j| {
+            let mut kept = Vec::new();
+            (setup().count_triangles(part(j), &mut kept), kept)
+        })
+        .collect();
+    let total = counts.iter().map(|c| c.0).sum();
     let mut triangles = triangle_buffer(total);
     let mut rest = &mut triangles.spare_capacity_mut()[..total];
     let mut places = Vec::with_capacity(jobs.len());
-    for &count in &counts {
-        let (place, after) = rest.split_at_mut(count);
+    for (count, _) in &counts {
+        let (place, after) = rest.split_at_mut(*count);
         places.push(place);
         rest = after;
     }
-    jobs.par_iter().zip(places).for_each(|(j, place)| setup().write_triangles(part(j), place));
+    jobs.par_iter()
+        .zip(places)
+        .zip(&counts)
+        .for_each(|((j, place), (_, kept))| setup().write_triangles(part(j), kept, place));
     // SAFETY: every job wrote exactly the `count` triangles of its place (`write_triangles` panics
     // otherwise, and a panic ends the frame before this line), and the places tile the first `total` slots.
     unsafe { triangles.set_len(total) };
