@@ -124,6 +124,12 @@ impl ShadedPacket {
     }
 }
 
+/// The lookup context of eight samples at their own (u,v).
+#[inline(always)]
+fn context_of<'s>(surface: &'s SurfaceLanes<'s>, at: &SurfaceSamples8<'_>) -> LookupContext8<'s> {
+    LookupContext8 { surface, u: at.uv.0, v: at.uv.1, footprint: at.footprint }
+}
+
 /// Eight samples of one primitive as the shader receives them.
 pub struct SurfaceSamples8<'a> {
     /// P, Pu, Pv (and the second derivatives of parametric surfaces) in object space.
@@ -163,23 +169,16 @@ impl ShadeContext<'_> {
         surface
     }
 
-    /// The lookup context of eight samples: at their (u,v), or where their view rays meet a
-    /// parallax-mapped bump's height field; and how much farther along the rays that is.
+    /// Moves the lookup context of eight samples to where their view rays meet a parallax-mapped bump's
+    /// height field, and says how much farther along the rays that is (`None` without parallax). The
+    /// context is changed in place: moved out whole, its reference (alone in a 32-byte slot) was read
+    /// back in one wide load after a narrow store, which stalled the store forwarding.
     #[inline(always)]
-    fn lookup_context<'s>(
-        &self,
-        inst: &Instance,
-        material: &Material,
-        surface: &'s SurfaceLanes<'s>,
-        at: &SurfaceSamples8<'_>,
-    ) -> (LookupContext8<'s>, Option<F8>) {
-        // Moved in place: choosing between a moved copy and the first one stalled the store forwarding.
-        let mut ctx = LookupContext8 { surface, u: at.uv.0, v: at.uv.1, footprint: at.footprint };
-        let travel = match material.bump.as_ref().filter(|_| self.bump_enabled) {
-            Some(bump) if bump.parallax.is_some() => self.parallax(inst, bump, &mut ctx),
+    fn parallax_of(&self, inst: &Instance, material: &Material, ctx: &mut LookupContext8<'_>) -> Option<F8> {
+        match material.bump.as_ref().filter(|_| self.bump_enabled) {
+            Some(bump) if bump.parallax.is_some() => self.parallax(inst, bump, ctx),
             _ => None,
-        };
-        (ctx, travel)
+        }
     }
 
     /// Moves `ctx` to where each view ray meets the bump's height field; the travel there (world units).
@@ -205,7 +204,7 @@ impl ShadeContext<'_> {
             return None;
         }
         let surface = self.surface(inst, at);
-        self.lookup_context(inst, material, &surface, at).1
+        self.parallax_of(inst, material, &mut context_of(&surface, at))
     }
 
     /// The filter of a bump: its own, or `--bump-filter`'s.
@@ -226,7 +225,8 @@ impl ShadeContext<'_> {
     pub fn alpha8(&self, inst: &Instance, at: &SurfaceSamples8<'_>) -> F8 {
         let material = &self.materials[inst.material];
         let surface = self.surface(inst, at);
-        let (ctx, _) = self.lookup_context(inst, material, &surface, at);
+        let mut ctx = context_of(&surface, at);
+        self.parallax_of(inst, material, &mut ctx);
         let mut alpha = F8::splat(material.opacity);
         for layer in material.layers.iter().filter(|l| l.writes_alpha()) {
             let texel = layer.source.eval8(&ctx);
@@ -287,7 +287,8 @@ impl ShadeContext<'_> {
         let frame = at.frame;
         let surface = self.surface(inst, at);
         let n_geo = surface.n;
-        let (ctx, travel) = self.lookup_context(inst, material, &surface, at);
+        let mut ctx = context_of(&surface, at);
+        let travel = self.parallax_of(inst, material, &mut ctx);
         // A displacement's F shades too (the displaced surface's own normal), with a bump's F added.
         // A LEAN or Toksvig filter also gives the covariance of the slopes under the pixel.
         let mut spread = None;
