@@ -46,8 +46,8 @@ impl Bins {
             let mut bins = vec![Vec::new(); tiles_x * tiles_y];
             for (i, t) in chunk.iter().enumerate().filter(|(_, t)| keep(t)) {
                 let [x0, y0, x1, y1] = t.bbox.map(|c| c as usize >> shift);
-                for ty in y0..=y1 {
-                    for tx in x0..=x1 {
+                for ty in y0..y1 + 1 {
+                    for tx in x0..x1 + 1 {
                         bins[ty * tiles_x + tx].push((first + i) as u32);
                     }
                 }
@@ -367,10 +367,11 @@ fn cover_same<const SPP: usize>(
         (ox as f32 / SUBPIXEL as f32 - tri.origin.x, oy as f32 / SUBPIXEL as f32 - tri.origin.y)
     });
     let (sx0, sx1, sx2) = (e0[0] * SUBPIXEL, e1[0] * SUBPIXEL, e2[0] * SUBPIXEL);
-    for y in y_lo..=y_hi {
+    // Half-open ranges: an inclusive range's extra test per step showed on triangles of a pixel or two.
+    for y in y_lo..y_hi + 1 {
         let (mut w0, mut w1, mut w2) =
             (edge_at_pixel(e0, x_lo, y), edge_at_pixel(e1, x_lo, y), edge_at_pixel(e2, x_lo, y));
-        for x in x_lo..=x_hi {
+        for x in x_lo..x_hi + 1 {
             for s in 0..SPP {
                 let o = offs[s];
                 if (w0 + o[0]) | (w1 + o[1]) | (w2 + o[2]) >= 0 {
@@ -394,8 +395,8 @@ fn cover_each(
 ) {
     let Some([x_lo, x_hi, y_lo, y_hi]) = pixels_of(tri, rect) else { return };
     let [e0, e1, e2] = tri.edges();
-    for y in y_lo..=y_hi {
-        for x in x_lo..=x_hi {
+    for y in y_lo..y_hi + 1 {
+        for x in x_lo..x_hi + 1 {
             let (w0, w1, w2) = (edge_at_pixel(e0, x, y), edge_at_pixel(e1, x, y), edge_at_pixel(e2, x, y));
             for (s, &[ox, oy]) in samples.at(x, y).iter().enumerate() {
                 let at = |w: i64, e: [i64; 3]| w + e[0] * ox + e[1] * oy;
