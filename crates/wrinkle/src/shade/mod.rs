@@ -184,7 +184,7 @@ impl ShadeContext<'_> {
     /// Moves `ctx` to where each view ray meets the bump's height field; the travel there (world units).
     #[inline(never)]
     fn parallax(&self, inst: &Instance, bump: &BumpMap, ctx: &mut LookupContext8<'_>) -> Option<F8> {
-        let Some(parallax) = bump.parallax else { return None };
+        let parallax = bump.parallax?;
         let to_eye = match self.ortho_to_eye {
             Some(_) => V3::splat(inst.camera_to_object.transform_vector3(Vec3::Z)),
             None => V3::splat(inst.camera_to_object.transform_point3(Vec3::ZERO)) - ctx.surface.p,
