@@ -249,6 +249,7 @@ impl<'a> TriangleSetup<'a> {
         out
     }
 
+    // Inlined, so that the chunk loop of `project_vertices` stores each vertex in place.
     #[inline(always)]
     fn project(&self, clip: ClipVertex) -> ProjectedVertex {
         let inside = inside_all(&self.planes, &clip.pos);

@@ -1,6 +1,6 @@
 //! The visibility buffer of one screen tile: for each sample, the depth key and the triangle of the nearest
-//! surface. Tiles are independent, so they render in
-//! parallel; triangles are binned to the tiles their bounding boxes touch.
+//! surface. Tiles are independent, so they render in parallel; triangles are binned to the tiles their
+//! bounding boxes touch.
 
 use super::exact::Outline;
 use super::samples::{SamplePattern, TileOffsets};
