@@ -268,25 +268,23 @@ impl<'a> TriangleSetup<'a> {
         out
     }
 
-    /// How many triangles of a projected mesh the setup keeps (clipped pieces counted one by one); `kept`
-    /// gets a bit for each triangle of the mesh that gives any.
-    pub fn count_triangles(&mut self, mesh: ProjectedMesh, kept: &mut Vec<u64>) -> usize {
-        kept.clear();
-        kept.resize(mesh.triangles.len().div_ceil(64), 0);
-        let mut count = 0;
+    /// How many triangles of a projected mesh the setup keeps (clipped pieces counted one by one), and
+    /// which of the mesh's triangles give any.
+    pub fn count_triangles(&mut self, mesh: ProjectedMesh) -> Counted {
+        let mut counted = Counted { count: 0, kept: vec![0; mesh.triangles.len().div_ceil(64)] };
         self.each_kept(mesh, 0..mesh.triangles.len(), |_, _, _, k| {
-            kept[k / 64] |= 1 << (k % 64);
-            count += 1;
+            counted.kept[k / 64] |= 1 << (k % 64);
+            counted.count += 1;
         });
-        count
+        counted
     }
 
     /// Writes into `out` the triangles of a projected mesh set up, which `count_triangles` counted to
-    /// exactly `out.len()` and marked in `kept` (so that those culled are not visited again); panics where
+    /// exactly `out.len()` (visiting only those it marked kept, not the culled ones again); panics where
     /// they are not as many.
-    pub fn write_triangles(&mut self, mesh: ProjectedMesh, kept: &[u64], out: &mut [MaybeUninit<ScreenTriangle>]) {
+    pub fn write_triangles(&mut self, mesh: ProjectedMesh, counted: &Counted, out: &mut [MaybeUninit<ScreenTriangle>]) {
         let mut n = 0;
-        self.each_kept(mesh, set_bits(kept), |setup, tri, kept, _| {
+        self.each_kept(mesh, set_bits(&counted.kept), |setup, tri, kept, _| {
             out[n].write(setup.finish(tri, kept));
             n += 1;
         });
@@ -404,6 +402,13 @@ impl<'a> TriangleSetup<'a> {
             perspective,
         }
     }
+}
+
+/// What `count_triangles` found of a projected mesh: how many triangles the setup keeps, and a bit for each
+/// of the mesh's triangles that gives any (bit i of word w: triangle 64 w + i).
+pub struct Counted {
+    pub count: usize,
+    kept: Vec<u64>,
 }
 
 /// What the setup keeps of a triangle before making its planes: the order of its vertices that makes its

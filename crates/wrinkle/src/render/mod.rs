@@ -25,7 +25,9 @@ use crate::procedural::hypertexture::Hypertexture;
 use crate::raster::exact::{exact8, frames_at, outline_triangles, start_within, tested_lanes, Outline};
 use crate::raster::refine::{affine_uv8, refine_uv8};
 pub use crate::raster::samples::{PixelFilter, Sampler, ShadingRate, MAX_SPP};
-use crate::raster::setup::{interpolate8, keep_triangle_buffer, triangle_buffer, ProjectedMesh, ProjectedVertex};
+use crate::raster::setup::{
+    interpolate8, keep_triangle_buffer, triangle_buffer, Counted, ProjectedMesh, ProjectedVertex,
+};
 use crate::raster::visibility::EMPTY;
 use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer, SUBPIXEL};
 use crate::scene::{CameraDesc, Scene};
@@ -670,26 +672,20 @@ fn setup_triangles(
         }
     };
     let setup = || TriangleSetup::new(camera).reaching(reach);
-    let counts: Vec<(usize, Vec<u64>)> = jobs
-        .par_iter()
-        .map(|j| {
-            let mut kept = Vec::new();
-            (setup().count_triangles(part(j), &mut kept), kept)
-        })
-        .collect();
-    let total = counts.iter().map(|c| c.0).sum();
+    let counts: Vec<Counted> = jobs.par_iter().map(|j| setup().count_triangles(part(j))).collect();
+    let total = counts.iter().map(|c| c.count).sum();
     let mut triangles = triangle_buffer(total);
     let mut rest = &mut triangles.spare_capacity_mut()[..total];
     let mut places = Vec::with_capacity(jobs.len());
-    for (count, _) in &counts {
-        let (place, after) = rest.split_at_mut(*count);
+    for counted in &counts {
+        let (place, after) = rest.split_at_mut(counted.count);
         places.push(place);
         rest = after;
     }
     jobs.par_iter()
         .zip(places)
         .zip(&counts)
-        .for_each(|((j, place), (_, kept))| setup().write_triangles(part(j), kept, place));
+        .for_each(|((j, place), counted)| setup().write_triangles(part(j), counted, place));
     // SAFETY: every job wrote exactly the `count` triangles of its place (`write_triangles` panics
     // otherwise, and a panic ends the frame before this line), and the places tile the first `total` slots.
     unsafe { triangles.set_len(total) };
