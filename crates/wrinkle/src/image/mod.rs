@@ -5,6 +5,7 @@ pub mod indexed;
 pub mod io;
 pub mod levels;
 pub mod output;
+mod png_rows;
 pub mod resample;
 #[cfg(test)]
 mod scratch;

@@ -1,7 +1,8 @@
 //! Images one row at a time, so that a 16384 x 16384 picture never has to be held whole.
 //!
 //! [`ImageRows`] reads rows from top to bottom: non-interlaced PNG files (8 and 16 bit, any colour type)
-//! are decoded row by row with the `png` crate; every other input (interlaced PNG, JPEG, BMP, TGA, TIFF) is
+//! are decoded row by row, plain ones by `png_rows` (inflated on a thread of their own), those with a
+//! palette, fewer bits or a transparency key by the `png` crate; every other input (interlaced PNG, JPEG, BMP, TGA, TIFF) is
 //! decoded whole by the `image` crate and then handed out row by row. [`write_rows`] writes rows as a PNG
 //! through the `png` crate's streaming encoder, or collects them into a 24-bit BMP (BMP stores rows bottom
 //! up, so it cannot be streamed). Outputs are placed whole (`output::write_atomic`).
@@ -14,6 +15,7 @@ use ::image::{DynamicImage, ImageReader};
 
 use super::io::{decode, decode_error, open_input, open_message, LUMA};
 use super::output::write_atomic;
+use super::png_rows::PngRows;
 use crate::error::{Error, Result};
 use crate::limits::Limit;
 
@@ -28,6 +30,8 @@ struct Layout {
 }
 
 enum Backend {
+    /// A plain PNG, inflated on a thread of its own.
+    PlainPng(PngRows),
     Png(Box<png::Reader<BufReader<File>>>),
     /// A decoded image converted to 8-bit or 16-bit samples, and the next row to hand out.
     Memory {
@@ -67,7 +71,14 @@ impl ImageRows {
             if !reader.info().interlaced {
                 let (color, depth) = reader.output_color_type();
                 let layout = Layout { channels: color.samples(), sixteen: depth == png::BitDepth::Sixteen };
-                let backend = Backend::Png(Box::new(reader));
+                let info = reader.info();
+                let plain = (info.color_type, info.bit_depth) == (color, depth) && info.trns.is_none();
+                let backend = if plain {
+                    let bpp = layout.channels * if layout.sixteen { 2 } else { 1 };
+                    Backend::PlainPng(PngRows::new(path, width, height, bpp))
+                } else {
+                    Backend::Png(Box::new(reader))
+                };
                 return Ok(ImageRows { path: path.to_path_buf(), width, height, layout, backend, scratch: Vec::new() });
             }
             // Adam7 interlacing spreads every row over seven passes: decode it whole below.
@@ -128,6 +139,7 @@ impl ImageRows {
     fn next_raw(&mut self) -> Result<&[u8]> {
         let path = &self.path;
         match &mut self.backend {
+            Backend::PlainPng(rows) => rows.next_row(),
             Backend::Png(reader) => match reader.next_row().map_err(|e| png_error(path, e))? {
                 Some(row) => Ok(row.data()),
                 None => Err(Error::read(path, "truncated or corrupt PNG: fewer rows than its header says")),

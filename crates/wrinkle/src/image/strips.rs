@@ -3,7 +3,8 @@
 //! parallel by rayon, and the caller's thread encodes the finished rows. Only a few strips are in memory
 //! at a time, so memory does not grow with the image's height.
 
-use std::sync::mpsc::{sync_channel, Receiver};
+use std::collections::VecDeque;
+use std::sync::mpsc::{channel, sync_channel, Receiver, Sender};
 use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
@@ -30,8 +31,9 @@ pub struct Window<'a> {
     pub below: &'a [f32],
 }
 
-/// The filter: fills one output row from the window around image row `y` and, when a colour image is
-/// given, that image's row `y` (8-bit RGB). `scratch` is a per-thread buffer of `3 * width` floats.
+/// The filter: fills every byte of one output row (which holds the bytes of an earlier strip) from the window
+/// around image row `y` and, when a colour image is given, that image's row `y` (8-bit RGB). `scratch` is a
+/// per-thread buffer of `3 * width` floats.
 pub type RowKernel<'a> = dyn Fn(usize, Window, Option<&[u8]>, &mut [f32], &mut [u8]) + Sync + 'a;
 
 /// Where time went: `kernel` is the wall time of the parallel filtering alone.
@@ -137,12 +139,17 @@ pub fn filter_3x3(
     let pw = w + 2;
     std::thread::scope(|scope| {
         let (height_tx, height_rx) = sync_channel::<Result<Vec<f32>>>(2);
+        // Spent strips go back to be filled again: fresh ones cost their pages' faults and zeroing, as much
+        // CPU as a sixth of the filter.
+        let (spent_heights_tx, spent_heights_rx) = channel::<Vec<f32>>();
+        let (spent_out_tx, spent_out_rx) = channel::<Vec<u8>>();
         scope.spawn(move || {
             let mut heights = heights;
             let mut y = 0;
             while y < h {
                 let n = strip.min(h - y);
-                let mut rows = vec![0.0f32; n * pw];
+                let mut rows = spent_heights_rx.try_recv().unwrap_or_default();
+                rows.resize(n * pw, 0.0);
                 let result = rows.chunks_exact_mut(pw).try_for_each(|r| {
                     heights.read_grey(&mut r[1..w + 1], full_scale)?;
                     pad(r, edges);
@@ -179,27 +186,27 @@ pub fn filter_3x3(
                 width: w,
                 height: h,
                 edges,
-                window: Vec::new(),
-                base: 0,
+                strips: VecDeque::new(),
+                rows_in: 0,
                 first: Vec::new(),
                 wrap_last: wrap_last_row,
+                spent: spent_heights_tx,
             };
             let mut colour = ColourRows { width: w, rows: Vec::new(), rx: colour_rx };
-            let mut rows_in = 0;
             let mut next_out = 0;
             for strip in height_rx {
                 let result = strip.and_then(|rows| {
-                    rows_in += rows.len() / pw;
                     if state.first.is_empty() {
                         state.first = rows[..pw].to_vec();
                     }
-                    state.window.extend_from_slice(&rows);
+                    state.receive(rows);
                     // Row y needs row y + 1, except the last.
-                    let ready = if rows_in == h { h } else { rows_in - 1 };
+                    let ready = if state.rows_in == h { h } else { state.rows_in - 1 };
                     let t = Instant::now();
-                    let out = colour
-                        .take(ready - next_out)
-                        .and_then(|c| state.run(next_out..ready, c.as_deref(), out_row_bytes, kernel));
+                    let out = colour.take(ready - next_out).and_then(|c| {
+                        let out = spent_out_rx.try_recv().unwrap_or_default();
+                        state.run(next_out..ready, c.as_deref(), out_row_bytes, kernel, out)
+                    });
                     stats.kernel += t.elapsed();
                     next_out = ready;
                     state.forget_before(next_out.saturating_sub(1));
@@ -215,7 +222,13 @@ pub fn filter_3x3(
         let mut done = 0;
         let mut outcome = Ok(());
         for strip in out_rx {
-            match strip.and_then(|rows| sink(&rows).map(|()| rows.len() / out_row_bytes.max(1))) {
+            match strip.and_then(|rows| {
+                sink(&rows)?;
+                let n = rows.len() / out_row_bytes.max(1);
+                // The filter thread may have finished; then the strip is simply dropped.
+                let _ = spent_out_tx.send(rows);
+                Ok(n)
+            }) {
                 Ok(n) => {
                     done += n;
                     progress(done);
@@ -236,17 +249,21 @@ pub fn filter_3x3(
     })
 }
 
-/// The filtering thread's rows: the window of decoded rows still needed, and the colour rows not yet used.
+/// The filtering thread's rows: the strips of decoded rows still needed, and the colour rows not yet used.
 struct Filter {
     width: usize,
     height: usize,
     edges: Edges,
-    /// Padded rows base, base + 1, ...
-    window: Vec<f32>,
-    base: usize,
+    /// Each strip's first row and its padded rows, oldest first; kept whole rather than copied into one
+    /// window, since copying every row cost as much as the filter itself.
+    strips: VecDeque<(usize, Vec<f32>)>,
+    /// Rows received so far.
+    rows_in: usize,
     /// Row 0, padded (the lower neighbour of the last row when wrapping).
     first: Vec<f32>,
     wrap_last: Option<Vec<f32>>,
+    /// Where strips no longer needed go, to be filled again.
+    spent: Sender<Vec<f32>>,
 }
 
 /// Decoded colour rows (8-bit RGB) from the first not yet filtered, and where more come from.
@@ -282,27 +299,38 @@ impl Filter {
             (Edges::Clamp, y) => y.clamp(0, h - 1) as usize,
             (_, y) => y as usize,
         };
-        let k = y - self.base;
-        &self.window[k * pw..(k + 1) * pw]
+        let (base, rows) = self.strips.iter().rev().find(|(base, _)| *base <= y).expect("row not yet received");
+        let k = y - base;
+        &rows[k * pw..(k + 1) * pw]
     }
 
+    /// Takes the next strip of padded rows.
+    fn receive(&mut self, rows: Vec<f32>) {
+        let n = rows.len() / (self.width + 2);
+        self.strips.push_back((self.rows_in, rows));
+        self.rows_in += n;
+    }
+
+    /// Drops the strips that hold only rows above `y`.
     fn forget_before(&mut self, y: usize) {
-        if y > self.base {
-            let pw = self.width + 2;
-            self.window.drain(..(y - self.base) * pw);
-            self.base = y;
+        while self.strips.get(1).is_some_and(|(next, _)| *next <= y) {
+            let (_, rows) = self.strips.pop_front().expect("a strip before the next");
+            // The decoding thread may have finished; then the strip is simply dropped.
+            let _ = self.spent.send(rows);
         }
     }
 
-    /// Filters output rows `range` in parallel.
+    /// Filters output rows `range` in parallel into `out` (a spent strip or an empty one), which the
+    /// kernel overwrites whole.
     fn run(
         &self,
         range: std::ops::Range<usize>,
         colour: Option<&[u8]>,
         out_row_bytes: usize,
         kernel: &RowKernel,
+        mut out: Vec<u8>,
     ) -> Result<Vec<u8>> {
-        let mut out = vec![0u8; range.len() * out_row_bytes];
+        out.resize(range.len() * out_row_bytes, 0);
         let this = self;
         let w = self.width;
         out.par_chunks_mut(out_row_bytes.max(1)).enumerate().with_min_len(4).for_each_init(
