@@ -280,12 +280,18 @@ impl<'a> TriangleSetup<'a> {
     }
 
     /// Writes into `out` the triangles of a projected mesh set up, which `count_triangles` counted to
-    /// exactly `out.len()` (visiting only those it marked kept, not the culled ones again); panics where
-    /// they are not as many.
-    pub fn write_triangles(&mut self, mesh: ProjectedMesh, counted: &Counted, out: &mut [MaybeUninit<ScreenTriangle>]) {
+    /// exactly `out.len()` (visiting only those it marked kept, not the culled ones again), and hands each
+    /// to `written` with its index in `out`; panics where they are not as many.
+    pub fn write_triangles(
+        &mut self,
+        mesh: ProjectedMesh,
+        counted: &Counted,
+        out: &mut [MaybeUninit<ScreenTriangle>],
+        mut written: impl FnMut(usize, &ScreenTriangle),
+    ) {
         let mut n = 0;
         self.each_kept(mesh, set_bits(&counted.kept), |setup, tri, kept, _| {
-            out[n].write(setup.finish(tri, kept));
+            written(n, out[n].write(setup.finish(tri, kept)));
             n += 1;
         });
         assert_eq!(n, out.len(), "triangle setup counted otherwise than it wrote");

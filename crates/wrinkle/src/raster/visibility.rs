@@ -13,12 +13,48 @@ use rayon::prelude::*;
 /// No triangle covers this sample.
 pub const EMPTY: u32 = u32::MAX;
 
-/// For each tile, the indices of the triangles whose bounding box touches it, in submission order.
+/// For each tile, the indices of the triangles whose bounding box touches it, in submission order: all the
+/// tiles' lists in one vector, tile by tile.
 pub struct Bins {
     pub tile_size: usize,
     pub tiles_x: usize,
     pub tiles_y: usize,
-    pub bins: Vec<Vec<u32>>,
+    /// Tile t's triangles are `indices[starts[t]..starts[t + 1]]`.
+    starts: Vec<usize>,
+    indices: Vec<u32>,
+}
+
+/// Some triangles' entries in the bins, made apart from the others' (by one parallel job) and joined after:
+/// (tile, triangle) in submission order, and how many entries each tile has.
+pub struct BinPart {
+    shift: u32,
+    tiles_x: usize,
+    entries: Vec<(u32, u32)>,
+    counts: Vec<u32>,
+}
+
+impl BinPart {
+    /// An empty part for tiles of `tile_size` (a power of two) on a `width` x `height` screen.
+    pub fn new(width: usize, height: usize, tile_size: usize) -> BinPart {
+        assert!(tile_size.is_power_of_two(), "tiles are a power of two on a side");
+        let tiles_x = width.div_ceil(tile_size);
+        // A shift, not a division: a million small triangles are four million of them.
+        let shift = tile_size.trailing_zeros();
+        BinPart { shift, tiles_x, entries: Vec::new(), counts: vec![0; tiles_x * height.div_ceil(tile_size)] }
+    }
+
+    /// Bins triangle `triangle`, whose box in pixels (inclusive, on the screen) is `bbox`.
+    #[inline]
+    pub fn add(&mut self, bbox: [i32; 4], triangle: u32) {
+        let [x0, y0, x1, y1] = bbox.map(|c| c as usize >> self.shift);
+        for ty in y0..y1 + 1 {
+            for tx in x0..x1 + 1 {
+                let tile = ty * self.tiles_x + tx;
+                self.entries.push((tile as u32, triangle));
+                self.counts[tile] += 1;
+            }
+        }
+    }
 }
 
 impl Bins {
@@ -28,7 +64,7 @@ impl Bins {
     }
 
     /// The bins of the triangles that `keep` keeps (their indices still into all of `triangles`). Large
-    /// sets are binned in parallel chunks whose bins are then joined tile by tile, in submission order.
+    /// sets are binned in parallel chunks, joined in submission order.
     pub fn of(
         triangles: &[ScreenTriangle],
         width: usize,
@@ -37,34 +73,51 @@ impl Bins {
         keep: impl Fn(&ScreenTriangle) -> bool + Sync,
     ) -> Bins {
         const CHUNK: usize = 1 << 16;
-        assert!(tile_size.is_power_of_two(), "tiles are a power of two on a side");
-        // A shift, not a division: a million small triangles are four million of them.
-        let shift = tile_size.trailing_zeros();
-        let tiles_x = width.div_ceil(tile_size);
-        let tiles_y = height.div_ceil(tile_size);
-        let bin_chunk = |first: usize, chunk: &[ScreenTriangle]| {
-            let mut bins = vec![Vec::new(); tiles_x * tiles_y];
-            for (i, t) in chunk.iter().enumerate().filter(|(_, t)| keep(t)) {
-                let [x0, y0, x1, y1] = t.bbox.map(|c| c as usize >> shift);
-                for ty in y0..y1 + 1 {
-                    for tx in x0..x1 + 1 {
-                        bins[ty * tiles_x + tx].push((first + i) as u32);
-                    }
+        let parts: Vec<BinPart> = triangles
+            .par_chunks(CHUNK)
+            .enumerate()
+            .map(|(c, chunk)| {
+                let mut part = BinPart::new(width, height, tile_size);
+                for (i, t) in chunk.iter().enumerate().filter(|(_, t)| keep(t)) {
+                    part.add(t.bbox, (c * CHUNK + i) as u32);
                 }
+                part
+            })
+            .collect();
+        Bins::join(width, height, tile_size, &parts)
+    }
+
+    /// The bins of the triangles of `parts`, each part's after the ones before it.
+    pub fn join(width: usize, height: usize, tile_size: usize, parts: &[BinPart]) -> Bins {
+        let (tiles_x, tiles_y) = (width.div_ceil(tile_size), height.div_ceil(tile_size));
+        let tiles = tiles_x * tiles_y;
+        // Each tile's entries after the tiles' before it.
+        let mut starts = vec![0usize; tiles + 1];
+        for part in parts {
+            for (start, &count) in starts[1..].iter_mut().zip(&part.counts) {
+                *start += count as usize;
             }
-            bins
-        };
-        let bins = if triangles.len() <= CHUNK {
-            bin_chunk(0, triangles)
-        } else {
-            let parts: Vec<Vec<Vec<u32>>> =
-                triangles.par_chunks(CHUNK).enumerate().map(|(c, chunk)| bin_chunk(c * CHUNK, chunk)).collect();
-            (0..tiles_x * tiles_y)
-                .into_par_iter()
-                .map(|tile| parts.iter().flat_map(|p| &p[tile]).copied().collect())
-                .collect()
-        };
-        Bins { tile_size, tiles_x, tiles_y, bins }
+        }
+        for t in 0..tiles {
+            starts[t + 1] += starts[t];
+        }
+        let mut next = starts[..tiles].to_vec();
+        let mut indices = vec![0u32; starts[tiles]];
+        for part in parts {
+            for &(tile, triangle) in &part.entries {
+                let at = &mut next[tile as usize];
+                indices[*at] = triangle;
+                *at += 1;
+            }
+        }
+        Bins { tile_size, tiles_x, tiles_y, starts, indices }
+    }
+
+    /// The triangles binned to tile (tx, ty).
+    #[inline]
+    pub fn bin(&self, (tx, ty): (usize, usize)) -> &[u32] {
+        let t = ty * self.tiles_x + tx;
+        &self.indices[self.starts[t]..self.starts[t + 1]]
     }
 }
 
@@ -125,7 +178,7 @@ impl VisBuffer {
         self.outline = false;
         // Small triangles are a few samples of work each: their records come from memory, asked for ahead.
         const AHEAD: usize = 8;
-        let bin = &bins.bins[tile.1 * bins.tiles_x + tile.0];
+        let bin = bins.bin(tile);
         for (i, &t) in bin.iter().enumerate() {
             if let Some(&next) = bin.get(i + AHEAD) {
                 prefetch(triangles, next as usize);
@@ -170,7 +223,7 @@ impl VisBuffer {
     /// peeling ends. A few samples (an outline's) are tested triangle by triangle; many (a cut-out leaf's)
     /// by rasterizing the tile's triangles again into those samples alone.
     pub fn peel(&mut self, bins: &Bins, tile: (usize, usize), triangles: &[ScreenTriangle], refused: &[usize]) {
-        let bin = &bins.bins[tile.1 * bins.tiles_x + tile.0];
+        let bin = bins.bin(tile);
         // One sample against the triangles near its band is a few bounds and edge tests each; rasterizing
         // walks the whole bounding box of every triangle of the tile. Samples one by one won on outlines
         // (tens of refused samples a tile, hundreds of triangles) until about an eighth of the tile.
@@ -462,7 +515,8 @@ mod tests {
                 }
             }
         }
-        assert!(bins.bins == want, "the parallel bins differ from one pass's");
+        let got: Vec<&[u32]> = (0..want.len()).map(|t| bins.bin((t % tiles_x, t / tiles_x))).collect();
+        assert!(got == want, "the parallel bins differ from one pass's");
     }
 
     /// Both ways of peeling find the same fragments behind, to the bit: a fan of overlapping triangles at
@@ -512,9 +566,9 @@ mod tests {
                 assert!(refused.len() > 100);
                 let before: Vec<u32> = refused.iter().map(|&k| vis.triangle[k]).collect();
                 if one_by_one {
-                    vis.peel_one_by_one(&bins.bins[0], &tris, &refused);
+                    vis.peel_one_by_one(bins.bin((0, 0)), &tris, &refused);
                 } else {
-                    vis.peel_by_rasterizing(&bins.bins[0], &tris, &refused);
+                    vis.peel_by_rasterizing(bins.bin((0, 0)), &tris, &refused);
                 }
                 // Most refused samples find a triangle behind theirs.
                 let behind =

@@ -28,7 +28,7 @@ pub use crate::raster::samples::{PixelFilter, Sampler, ShadingRate, MAX_SPP};
 use crate::raster::setup::{
     interpolate8, keep_triangle_buffer, triangle_buffer, Counted, ProjectedMesh, ProjectedVertex,
 };
-use crate::raster::visibility::EMPTY;
+use crate::raster::visibility::{BinPart, EMPTY};
 use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer, SUBPIXEL};
 use crate::scene::{CameraDesc, Scene};
 use crate::shade::{AlphaMode, Ibl, MappingNeeds, ShadeContext, ShadedSample, SurfaceSamples8};
@@ -288,20 +288,22 @@ fn render_view_parts(
     let diced = displace::displace(&mut instances, &scene.materials, &camera)?;
     stats.tessellate_ms = ms(t);
     let pattern = options.sample_pattern()?;
-    let drawn = Drawn::new(&instances, diced, &camera, pattern.reach(), &mut stats);
-    let t = Instant::now();
     let tile_size = options.tile_size();
     // Translucent surfaces stay out of the opaque visibility: the transparent pass composites them over it.
     let blending: Vec<bool> =
         instances.iter().map(|i| scene.materials[i.material].alpha_mode == AlphaMode::Blend).collect();
-    let bins = Bins::of(&drawn.triangles, w, h, tile_size, |t| !blending[t.surface as usize]);
+    let opaque: Vec<bool> = blending.iter().map(|b| !b).collect();
+    let binning = Binning { tile_size, surfaces: &opaque };
+    let drawn = Drawn::new(&instances, diced, &camera, pattern.reach(), binning, &mut stats);
+    let bins = &drawn.bins;
+    let t = Instant::now();
     let blend_bins =
         blending.contains(&true).then(|| Bins::of(&drawn.triangles, w, h, tile_size, |t| blending[t.surface as usize]));
     let blend_order = match (&blend_bins, options.transparency) {
         (Some(_), Transparency::Sorted) => transparent::sorted_order(&camera, &instances, &drawn, &blending),
         _ => Vec::new(),
     };
-    stats.bin_ms = ms(t);
+    stats.bin_ms += ms(t);
 
     let mut shade_ctx = ShadeContext {
         eye: cam.eye,
@@ -348,7 +350,7 @@ fn render_view_parts(
         blend_bins: blend_bins.as_ref(),
         transparency: options.transparency,
         blend_order: &blend_order,
-        ..TileJob::visibility(&drawn, &bins, &camera, &pattern, &instances, &shade_ctx, &cutoffs, &replacing)
+        ..TileJob::visibility(&drawn, bins, &camera, &pattern, &instances, &shade_ctx, &cutoffs, &replacing)
     };
     for &part in parts {
         let t = Instant::now();
@@ -559,6 +561,14 @@ struct Drawn<'a> {
     /// Per surface, the number within its object of its first triangle.
     first_triangles: Vec<u32>,
     triangles: Vec<ScreenTriangle>,
+    /// The triangles of the surfaces asked for, binned to the screen's tiles as they were set up.
+    bins: Bins,
+}
+
+/// Which triangles `Drawn::new` bins, and to tiles of what size: those of the surfaces marked true.
+struct Binning<'b> {
+    tile_size: usize,
+    surfaces: &'b [bool],
 }
 
 impl Drop for Drawn<'_> {
@@ -568,14 +578,15 @@ impl Drop for Drawn<'_> {
 }
 
 impl<'a> Drawn<'a> {
-    /// Tessellates the instances' surfaces for `camera` (or takes their diced or mesh triangles) and sets
-    /// every triangle up for samples that reach `reach` pixels past their own, timing both stages into
-    /// `stats`.
+    /// Tessellates the instances' surfaces for `camera` (or takes their diced or mesh triangles), sets
+    /// every triangle up for samples that reach `reach` pixels past their own and bins those of the
+    /// surfaces `binning` asks for, timing the stages into `stats`.
     fn new(
         instances: &'a [Instance],
         mut diced: Vec<Option<Mesh>>,
         camera: &Camera,
         reach: usize,
+        binning: Binning,
         stats: &mut Stats,
     ) -> Drawn<'a> {
         let t = Instant::now();
@@ -606,10 +617,13 @@ impl<'a> Drawn<'a> {
         stats.tessellate_ms += ms(t);
         let t = Instant::now();
         let first_triangles = first_triangles(instances, &meshes);
-        let triangles = setup_triangles(camera, reach, instances, &meshes, &first_triangles);
+        let (triangles, parts) = setup_triangles(camera, reach, instances, &meshes, &first_triangles, &binning);
         stats.triangles += triangles.len();
         stats.setup_ms += ms(t);
-        Drawn { meshes, max_steps, first_triangles, triangles }
+        let t = Instant::now();
+        let bins = Bins::join(camera.width as usize, camera.height as usize, binning.tile_size, &parts);
+        stats.bin_ms += ms(t);
+        Drawn { meshes, max_steps, first_triangles, triangles, bins }
     }
 }
 
@@ -625,14 +639,17 @@ fn first_triangles(instances: &[Instance], meshes: &[Triangles]) -> Vec<u32> {
     first
 }
 
-/// Clips, projects and sets up every triangle, in parallel over chunks, keeping submission order.
+/// Clips, projects and sets up every triangle, in parallel over chunks, keeping submission order; bins
+/// them as `binning` asks while each is at hand (a second pass over a million records read them all from
+/// memory again), each chunk's entries a part of the bins.
 fn setup_triangles(
     camera: &Camera,
     reach: usize,
     instances: &[Instance],
     meshes: &[Triangles],
     first: &[u32],
-) -> Vec<ScreenTriangle> {
+    binning: &Binning,
+) -> (Vec<ScreenTriangle>, Vec<BinPart>) {
     const CHUNK: usize = 8192;
     let projector = TriangleSetup::new(camera);
     let projected: Vec<Vec<ProjectedVertex>> = instances
@@ -677,19 +694,33 @@ fn setup_triangles(
     let mut triangles = triangle_buffer(total);
     let mut rest = &mut triangles.spare_capacity_mut()[..total];
     let mut places = Vec::with_capacity(jobs.len());
+    let mut base = 0;
     for counted in &counts {
         let (place, after) = rest.split_at_mut(counted.count);
-        places.push(place);
+        places.push((place, base));
         rest = after;
+        base += counted.count;
     }
-    jobs.par_iter()
+    let (w, h) = (camera.width as usize, camera.height as usize);
+    let parts = jobs
+        .par_iter()
         .zip(places)
         .zip(&counts)
-        .for_each(|((j, place), counted)| setup().write_triangles(part(j), counted, place));
+        .map(|((j, (place, base)), counted)| {
+            let mut bins = BinPart::new(w, h, binning.tile_size);
+            let binned = binning.surfaces[j.0];
+            setup().write_triangles(part(j), counted, place, |k, t| {
+                if binned {
+                    bins.add(t.bbox, (base + k) as u32);
+                }
+            });
+            bins
+        })
+        .collect();
     // SAFETY: every job wrote exactly the `count` triangles of its place (`write_triangles` panics
     // otherwise, and a panic ends the frame before this line), and the places tile the first `total` slots.
     unsafe { triangles.set_len(total) };
-    triangles
+    (triangles, parts)
 }
 
 /// Closed surfaces are never seen from inside: their triangles facing away are dropped.
@@ -850,9 +881,8 @@ impl<'a> TileJob<'a> {
         w: usize,
         h: usize,
     ) {
-        let index = tile.1 * self.bins.tiles_x + tile.0;
-        if self.bins.bins[index].is_empty()
-            && self.blend_bins.is_none_or(|b| b.bins[index].is_empty())
+        if self.bins.bin(tile).is_empty()
+            && self.blend_bins.is_none_or(|b| b.bin(tile).is_empty())
             && self.volumes.is_empty()
             && self.sky.is_none()
         {
@@ -1421,4 +1451,33 @@ struct Shaded {
     object: u32,
     /// The triangle within its object.
     triangle: u32,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The bins made while the triangles are set up are those that binning the set-up triangles afterwards
+    /// gives, the surfaces left out included: on the teapot's 32 patches and on its mesh.
+    #[test]
+    fn bins_made_during_setup_are_those_of_the_triangles_set_up() {
+        let scenes = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+        for name in ["teapot.toml", "teapot_mesh.toml"] {
+            let scene = Scene::load(&scenes.join(name)).unwrap();
+            let (w, h, tile_size) = (301, 203, 16);
+            let camera = scene.camera.screen(w, h);
+            let instances = instances(&scene, &camera, 0.0);
+            let surfaces: Vec<bool> = (0..instances.len()).map(|s| s % 3 != 1).collect();
+            let diced = instances.iter().map(|_| None).collect();
+            let binning = Binning { tile_size, surfaces: &surfaces };
+            let drawn = Drawn::new(&instances, diced, &camera, 0, binning, &mut Stats::default());
+            assert!(drawn.triangles.len() > 100, "{} triangles", drawn.triangles.len());
+            let after = Bins::of(&drawn.triangles, w, h, tile_size, |t| surfaces[t.surface as usize]);
+            let (tiles_x, tiles_y) = (after.tiles_x, after.tiles_y);
+            assert_eq!((drawn.bins.tiles_x, drawn.bins.tiles_y), (tiles_x, tiles_y));
+            for tile in (0..tiles_y).flat_map(|ty| (0..tiles_x).map(move |tx| (tx, ty))) {
+                assert_eq!(drawn.bins.bin(tile), after.bin(tile), "tile {tile:?}");
+            }
+        }
+    }
 }

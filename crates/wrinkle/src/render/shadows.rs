@@ -4,14 +4,14 @@
 //! turn towards the eye for the frame, so a billboard tree's shadow has the tree's shape whatever the
 //! light's angle to the view.
 
-use super::{displace, Drawn, TileJob, TileScratch};
+use super::{displace, Binning, Drawn, TileJob, TileScratch};
 use crate::bump::DisplacementMode;
 use crate::envmap::chart::Face;
 use crate::geometry::Instance;
 use crate::light::shadow::{depth_of_key, ShadowView, CUBE_MARGIN};
 use crate::light::{Light, ShadowMap, ShadowSettings, Shadows, Spot};
 use crate::raster::visibility::EMPTY;
-use crate::raster::{Bins, Camera, Projection, SamplePattern};
+use crate::raster::{Camera, Projection, SamplePattern};
 use crate::scene::Scene;
 use crate::shade::ShadeContext;
 use crate::Result;
@@ -166,8 +166,9 @@ fn depth_view(
     crate::limits::reserve((w * h * 8) as u64, || format!("a {w}x{h} shadow map"))?;
     let mut seen = placed_for(&camera);
     let diced = displace::displace(&mut seen, &scene.materials, &camera)?;
-    let drawn = Drawn::new(&seen, diced, &camera, 0, &mut Default::default());
-    let bins = Bins::of(&drawn.triangles, w, h, TILE, |t| casting[t.surface as usize]);
+    let binning = Binning { tile_size: TILE, surfaces: &casting };
+    let drawn = Drawn::new(&seen, diced, &camera, 0, binning, &mut Default::default());
+    let bins = &drawn.bins;
     let pattern = SamplePattern::centre();
     // A parallax crossing's depth is the eye's, not the light's: shadows see the surface itself.
     let not_replacing = vec![false; seen.len()];
@@ -180,7 +181,7 @@ fn depth_view(
         || TileScratch::new(TILE, 1),
         |scratch, (ty, (depth, object))| {
             for tx in 0..bins.tiles_x {
-                if bins.bins[ty * bins.tiles_x + tx].is_empty() {
+                if bins.bin((tx, ty)).is_empty() {
                     continue;
                 }
                 scratch.vis.render_tile(&bins, (tx, ty), (w, h), &drawn.triangles, &pattern);

@@ -52,7 +52,7 @@ impl TileJob<'_> {
     ) {
         out.clear();
         let Some(bins) = self.blend_bins else { return };
-        if bins.bins[tile.1 * bins.tiles_x + tile.0].is_empty() {
+        if bins.bin(tile).is_empty() {
             return;
         }
         // The same job over the translucent triangles: its peeling and tests see only them.
