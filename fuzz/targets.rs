@@ -87,7 +87,8 @@ pub fn image_exr(data: &[u8]) {
 }
 
 /// An image file (recognised by content, else by the extension `ext`) as a height map, as a colour
-/// texture, and row by row through the streaming reader (the png crate's own row decoder for PNG).
+/// texture, and row by row through the streaming reader (`png_rows` for a plain PNG, the png crate's row
+/// decoder for the other PNGs).
 fn image(data: &[u8], ext: &str) {
     let path = scratch_file(&format!("input.{ext}"), data);
     let _ = io::load_grey(&path);

@@ -1,8 +1,7 @@
 //! The rows of a plain PNG (not interlaced, 8 or 16 bits a sample, grey or RGB with or without alpha, no
 //! palette or transparency key), decoded on two threads: one reads the file and inflates its image data,
-//! the reader's thread undoes the row filters. The `png` crate does both on one thread, and on a large grey
-//! image the two take about as long as the whole emboss after them, so splitting them shortens a
-//! streamed command by a third of its decoding.
+//! the reader's thread undoes the row filters. The `png` crate does both on one thread, which was the
+//! longest thread of the emboss command on a 4096^2 grey PNG (BENCHMARKS.md, "Emboss and normal maps").
 
 use std::fs::File;
 use std::io::{BufReader, Read};
@@ -35,10 +34,13 @@ pub(super) struct PngRows {
     next: usize,
 }
 
+/// The inflating thread's batches, and where spent ones go back to it.
+type Batches = (Receiver<Result<Vec<u8>>>, Sender<Vec<u8>>);
+
 /// The inflated image data as it comes from the inflating thread, which starts at the first read.
 struct Inflated {
     path: PathBuf,
-    batches: Option<(Receiver<Result<Vec<u8>>>, Sender<Vec<u8>>)>,
+    batches: Option<Batches>,
     batch: Vec<u8>,
     at: usize,
     /// Bytes still to come.
@@ -111,19 +113,23 @@ impl Inflated {
         if out.len() > self.left {
             return Err(fewer());
         }
-        let (batches, spent) = self.batches.get_or_insert_with(|| {
+        if self.batches.is_none() {
             let (tx, rx) = sync_channel(4);
             // Spent batches go back to be filled again, rather than each a fresh allocation.
             let (spent_tx, spent_rx) = channel();
             let (path, expected) = (self.path.clone(), self.left);
-            std::thread::spawn(move || {
-                if let Err(e) = inflate(&path, expected, &tx, &spent_rx) {
-                    // The reader may be gone already; then nobody needs the error.
-                    let _ = tx.send(Err(e));
-                }
-            });
-            (rx, spent_tx)
-        });
+            std::thread::Builder::new()
+                .name("png-inflate".into())
+                .spawn(move || {
+                    if let Err(e) = inflate(&path, expected, &tx, &spent_rx) {
+                        // The reader may be gone already; then nobody needs the error.
+                        let _ = tx.send(Err(e));
+                    }
+                })
+                .map_err(|e| Error::read(&self.path, format!("cannot start a thread to inflate it: {e}")))?;
+            self.batches = Some((rx, spent_tx));
+        }
+        let (batches, spent) = self.batches.as_ref().expect("the inflating thread was started");
         let mut have = 0;
         while have < out.len() {
             if self.at == self.batch.len() {
@@ -143,6 +149,7 @@ impl Inflated {
 }
 
 /// Reads the PNG's chunks and sends its image data inflated, `BATCH` bytes at a time, until `expected` bytes.
+/// Chunks are read in pieces of a fixed size, so that a corrupt length cannot ask for gigabytes.
 fn inflate(path: &Path, expected: usize, tx: &SyncSender<Result<Vec<u8>>>, spent: &Receiver<Vec<u8>>) -> Result<()> {
     let corrupt = |what: &str| Error::read(path, format!("truncated or corrupt PNG: {what}"));
     let mut file = BufReader::with_capacity(1 << 16, open_input(path)?);
@@ -154,9 +161,8 @@ fn inflate(path: &Path, expected: usize, tx: &SyncSender<Result<Vec<u8>>>, spent
     };
     read(&mut file, &mut [0; 8])?;
     let mut inflater = fdeflate::Decompressor::new();
-    let mut out = vec![0u8; WINDOW + BATCH];
-    let (mut pos, mut sent, mut total) = (0, 0, 0);
-    let mut data = Vec::new();
+    let mut out = Output { bytes: vec![0u8; WINDOW + BATCH], pos: 0, sent: 0, total: 0 };
+    let mut piece = vec![0u8; 1 << 16];
     while !inflater.is_done() {
         let mut header = [0u8; 8];
         read(&mut file, &mut header)?;
@@ -168,52 +174,83 @@ fn inflate(path: &Path, expected: usize, tx: &SyncSender<Result<Vec<u8>>>, spent
         if &kind == b"IEND" {
             return Err(corrupt("the image data ends early"));
         }
-        data.resize(len, 0);
-        read(&mut file, &mut data)?;
-        let mut crc = [0u8; 4];
-        read(&mut file, &mut crc)?;
-        if &kind != b"IDAT" {
-            continue;
-        }
         let mut hasher = crc32fast::Hasher::new();
         hasher.update(&kind);
-        hasher.update(&data);
-        if hasher.finalize() != u32::from_be_bytes(crc) {
-            return Err(corrupt("an image data chunk fails its CRC check"));
-        }
-        let mut input = &data[..];
-        loop {
-            let (used, made) = inflater
-                .read(input, &mut out, pos, false)
-                .map_err(|e| corrupt(&format!("the image data does not inflate ({e:?})")))?;
-            input = &input[used..];
-            pos += made;
-            total += made;
-            if total > expected {
-                return Err(corrupt("more image data than its header says"));
+        let mut left = len;
+        while left > 0 {
+            let n = left.min(piece.len());
+            read(&mut file, &mut piece[..n])?;
+            left -= n;
+            if &kind != b"IDAT" {
+                continue;
             }
-            let full = pos == out.len();
-            let batch = |bytes: &[u8]| {
-                let mut batch = spent.try_recv().unwrap_or_default();
-                batch.clear();
-                batch.extend_from_slice(bytes);
-                batch
-            };
-            if full {
-                if tx.send(Ok(batch(&out[sent..pos]))).is_err() {
+            hasher.update(&piece[..n]);
+            let mut input = &piece[..n];
+            while !inflater.is_done() {
+                let room = out.bytes.len() - out.pos;
+                let (used, made) = inflater
+                    .read(input, &mut out.bytes, out.pos, false)
+                    .map_err(|e| corrupt(&format!("the image data does not inflate ({e:?})")))?;
+                if used == 0 && made == 0 && !input.is_empty() {
+                    return Err(corrupt("the image data does not inflate"));
+                }
+                input = &input[used..];
+                if !out.made(made, expected, tx, spent).map_err(|()| corrupt("more image data than its header says"))? {
                     return Ok(());
                 }
-                out.copy_within(pos - WINDOW..pos, 0);
-                (pos, sent) = (WINDOW, WINDOW);
+                // A full buffer may have held output back: it comes out on the next call, input or not.
+                if input.is_empty() && made < room {
+                    break;
+                }
             }
-            if inflater.is_done() || (input.is_empty() && !full) {
-                break;
-            }
+        }
+        let mut crc = [0u8; 4];
+        read(&mut file, &mut crc)?;
+        if &kind == b"IDAT" && hasher.finalize() != u32::from_be_bytes(crc) {
+            return Err(corrupt("an image data chunk fails its CRC check"));
         }
     }
     // A short stream is reported by the reader, which counts its rows.
-    let _ = tx.send(Ok(out[sent..pos].to_vec()));
+    let _ = tx.send(Ok(out.bytes[out.sent..out.pos].to_vec()));
     Ok(())
+}
+
+/// The inflater's output buffer: the last `WINDOW` bytes sent (what later bytes may refer back to), then the
+/// bytes not yet sent up to `pos`; `total` bytes made in all.
+struct Output {
+    bytes: Vec<u8>,
+    pos: usize,
+    sent: usize,
+    total: usize,
+}
+
+impl Output {
+    /// Counts `made` more bytes and, when the buffer is full, sends them and keeps the window. Fails when
+    /// the bytes exceed `expected`; returns false when the reader is gone.
+    fn made(
+        &mut self,
+        made: usize,
+        expected: usize,
+        tx: &SyncSender<Result<Vec<u8>>>,
+        spent: &Receiver<Vec<u8>>,
+    ) -> std::result::Result<bool, ()> {
+        self.pos += made;
+        self.total += made;
+        if self.total > expected {
+            return Err(());
+        }
+        if self.pos == self.bytes.len() {
+            let mut batch = spent.try_recv().unwrap_or_default();
+            batch.clear();
+            batch.extend_from_slice(&self.bytes[self.sent..self.pos]);
+            if tx.send(Ok(batch)).is_err() {
+                return Ok(false);
+            }
+            self.bytes.copy_within(self.pos - WINDOW..self.pos, 0);
+            (self.pos, self.sent) = (WINDOW, WINDOW);
+        }
+        Ok(true)
+    }
 }
 
 /// Undoes filter `kind` on `row` (PNG specification, section 9), given the unfiltered row above; returns
@@ -252,14 +289,14 @@ fn unfilter(kind: u8, bpp: usize, above: &[u8], row: &mut [u8]) -> std::result::
 /// Undoes the filters of the rows of `rows` after its first, the row above them; `kinds` are their filter
 /// types. A whole group of Paeth rows goes through the wavefront.
 fn unfilter_group(kinds: &[u8], bpp: usize, row_bytes: usize, rows: &mut [u8]) -> std::result::Result<(), u8> {
-    if kinds == [4; GROUP] {
+    if kinds == [4; GROUP] && bpp <= 4 {
         match bpp {
-            1 => return Ok(paeth_wavefront::<1>(rows, row_bytes)),
-            2 => return Ok(paeth_wavefront::<2>(rows, row_bytes)),
-            3 => return Ok(paeth_wavefront::<3>(rows, row_bytes)),
-            4 => return Ok(paeth_wavefront::<4>(rows, row_bytes)),
-            _ => {}
+            1 => paeth_wavefront::<1>(rows, row_bytes),
+            2 => paeth_wavefront::<2>(rows, row_bytes),
+            3 => paeth_wavefront::<3>(rows, row_bytes),
+            _ => paeth_wavefront::<4>(rows, row_bytes),
         }
+        return Ok(());
     }
     for (r, &kind) in kinds.iter().enumerate() {
         let (above, row) = rows.split_at_mut((r + 1) * row_bytes);
@@ -419,8 +456,19 @@ mod tests {
         let dir = Scratch::new("png-rows-large");
         let path = dir.path("x.png");
         let (w, h) = (1031, 600);
-        let pixels: Vec<u8> = (0..w * h).map(|i| ((i % w) ^ (i / w * 7) ^ (i * 2_654_435_761 >> 27)) as u8).collect();
+        let pixels: Vec<u8> = (0..w * h).map(|i| ((i % w) ^ (i / w * 7) ^ ((i * 2_654_435_761) >> 27)) as u8).collect();
         encode(&path, (w, h), png::ColorType::Grayscale, false, png::Filter::Paeth, &pixels);
+        assert_eq!(decode(&path, (w, h), 1).unwrap(), pixels);
+    }
+
+    #[test]
+    fn long_runs_that_fill_the_inflaters_buffer_come_out_whole() {
+        // Rows of one value compress to long back-references, which stop mid-copy when the buffer fills.
+        let dir = Scratch::new("png-rows-runs");
+        let path = dir.path("x.png");
+        let (w, h) = (1500, 1000);
+        let pixels: Vec<u8> = (0..w * h).map(|i| (i / w / 97) as u8).collect();
+        encode(&path, (w, h), png::ColorType::Grayscale, false, png::Filter::NoFilter, &pixels);
         assert_eq!(decode(&path, (w, h), 1).unwrap(), pixels);
     }
 
@@ -440,6 +488,11 @@ mod tests {
         };
         let err = damaged("short.png", &good[..good.len() / 2]);
         assert!(err.contains("short.png") && err.contains("truncated or corrupt PNG"), "{err}");
+        // A length of nearly 2 GiB is read in pieces, not allocated, and ends with the file.
+        let mut long = good.clone();
+        long[idat - 4..idat].copy_from_slice(&0x7fff_0000u32.to_be_bytes());
+        let err = damaged("long.png", &long);
+        assert!(err.contains("the file ends inside its image data"), "{err}");
         let mut bad_crc = good.clone();
         bad_crc[idat + 6] ^= 0x40;
         let err = damaged("crc.png", &bad_crc);

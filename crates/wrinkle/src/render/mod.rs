@@ -359,7 +359,7 @@ fn render_view_parts(
         if let Some(c) = part {
             frame.placement = Placement { x0: c.x0, y0: c.y0, width: ow, height: oh, full_width: w, full_height: h };
         }
-        let bands = render_bands(&job, &mut frame.color, part, &bins, options, view, progress);
+        let bands = render_bands(&job, &mut frame.color, part, bins, options, view, progress);
         frame.gather_aovs(bands);
         if stopped(view) {
             return Err(Error::Interrupted);

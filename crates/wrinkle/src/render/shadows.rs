@@ -166,7 +166,7 @@ fn depth_view(
     crate::limits::reserve((w * h * 8) as u64, || format!("a {w}x{h} shadow map"))?;
     let mut seen = placed_for(&camera);
     let diced = displace::displace(&mut seen, &scene.materials, &camera)?;
-    let binning = Binning { tile_size: TILE, surfaces: &casting };
+    let binning = Binning { tile_size: TILE, surfaces: casting };
     let drawn = Drawn::new(&seen, diced, &camera, 0, binning, &mut Default::default());
     let bins = &drawn.bins;
     let pattern = SamplePattern::centre();
@@ -174,7 +174,7 @@ fn depth_view(
     let not_replacing = vec![false; seen.len()];
     let job = TileJob {
         exact_depth: true,
-        ..TileJob::visibility(&drawn, &bins, &camera, &pattern, &seen, shade, cutoffs, &not_replacing)
+        ..TileJob::visibility(&drawn, bins, &camera, &pattern, &seen, shade, cutoffs, &not_replacing)
     };
     let (mut depth, mut object) = (vec![f32::INFINITY; w * h], vec![EMPTY.to_le_bytes(); w * h]);
     depth.par_chunks_mut(TILE * w).zip(object.par_chunks_mut(TILE * w)).enumerate().for_each_init(
@@ -184,7 +184,7 @@ fn depth_view(
                 if bins.bin((tx, ty)).is_empty() {
                     continue;
                 }
-                scratch.vis.render_tile(&bins, (tx, ty), (w, h), &drawn.triangles, &pattern);
+                scratch.vis.render_tile(bins, (tx, ty), (w, h), &drawn.triangles, &pattern);
                 if job.any_masked || scratch.vis.outline {
                     job.fix_visibility(scratch, (tx, ty));
                 }
