@@ -7,6 +7,7 @@ use std::fs::File;
 use std::io::{BufReader, Read};
 use std::path::{Path, PathBuf};
 use std::sync::mpsc::{channel, sync_channel, Receiver, Sender, SyncSender};
+use std::thread::JoinHandle;
 
 use super::io::{open_input, open_message};
 use crate::error::{Error, Result};
@@ -37,10 +38,12 @@ pub(super) struct PngRows {
 /// The inflating thread's batches, and where spent ones go back to it.
 type Batches = (Receiver<Result<Vec<u8>>>, Sender<Vec<u8>>);
 
-/// The inflated image data as it comes from the inflating thread, which starts at the first read.
+/// The inflated image data as it comes from the inflating thread, which starts at the first read and is
+/// joined when this is dropped.
 struct Inflated {
     path: PathBuf,
     batches: Option<Batches>,
+    thread: Option<JoinHandle<()>>,
     batch: Vec<u8>,
     at: usize,
     /// Bytes still to come.
@@ -54,6 +57,7 @@ impl PngRows {
         let inflated = Inflated {
             path: path.to_path_buf(),
             batches: None,
+            thread: None,
             batch: Vec::new(),
             at: 0,
             left: height * (row_bytes + 1),
@@ -118,7 +122,7 @@ impl Inflated {
             // Spent batches go back to be filled again, rather than each a fresh allocation.
             let (spent_tx, spent_rx) = channel();
             let (path, expected) = (self.path.clone(), self.left);
-            std::thread::Builder::new()
+            let thread = std::thread::Builder::new()
                 .name("png-inflate".into())
                 .spawn(move || {
                     if let Err(e) = inflate(&path, expected, &tx, &spent_rx) {
@@ -127,7 +131,7 @@ impl Inflated {
                     }
                 })
                 .map_err(|e| Error::read(&self.path, format!("cannot start a thread to inflate it: {e}")))?;
-            self.batches = Some((rx, spent_tx));
+            (self.batches, self.thread) = (Some((rx, spent_tx)), Some(thread));
         }
         let (batches, spent) = self.batches.as_ref().expect("the inflating thread was started");
         let mut have = 0;
@@ -145,6 +149,17 @@ impl Inflated {
         }
         self.left -= out.len();
         Ok(())
+    }
+}
+
+impl Drop for Inflated {
+    /// Stops the inflating thread (its next batch finds no reader) and waits for it: a reader dropped early
+    /// leaves no thread behind reading a file it no longer wants.
+    fn drop(&mut self) {
+        self.batches = None;
+        if let Some(thread) = self.thread.take() {
+            let _ = thread.join();
+        }
     }
 }
 

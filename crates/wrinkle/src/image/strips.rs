@@ -139,8 +139,7 @@ pub fn filter_3x3(
     let pw = w + 2;
     std::thread::scope(|scope| {
         let (height_tx, height_rx) = sync_channel::<Result<Vec<f32>>>(2);
-        // Spent strips go back to be filled again: fresh ones cost their pages' faults and zeroing, as much
-        // CPU as a sixth of the filter.
+        // Spent strips go back to be filled again: each fresh one cost its pages' faults and zeroing.
         let (spent_heights_tx, spent_heights_rx) = channel::<Vec<f32>>();
         let (spent_out_tx, spent_out_rx) = channel::<Vec<u8>>();
         scope.spawn(move || {
@@ -255,7 +254,7 @@ struct Filter {
     height: usize,
     edges: Edges,
     /// Each strip's first row and its padded rows, oldest first; kept whole rather than copied into one
-    /// window, since copying every row cost as much as the filter itself.
+    /// window, since copying every row took more CPU than the filter's arithmetic.
     strips: VecDeque<(usize, Vec<f32>)>,
     /// Rows received so far.
     rows_in: usize,

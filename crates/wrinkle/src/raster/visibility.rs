@@ -25,22 +25,20 @@ pub struct Bins {
 }
 
 /// Some triangles' entries in the bins, made apart from the others' (by one parallel job) and joined after:
-/// (tile, triangle) in submission order, and how many entries each tile has.
+/// (tile, triangle) in submission order. A part holds its entries alone, not a count per tile: a
+/// million-triangle mesh's setup makes a hundred parts, and a large frame has millions of tiles.
 pub struct BinPart {
     shift: u32,
     tiles_x: usize,
     entries: Vec<(u32, u32)>,
-    counts: Vec<u32>,
 }
 
 impl BinPart {
-    /// An empty part for tiles of `tile_size` (a power of two) on a `width` x `height` screen.
-    pub fn new(width: usize, height: usize, tile_size: usize) -> BinPart {
+    /// An empty part for tiles of `tile_size` (a power of two) on a screen `width` pixels wide.
+    pub fn new(width: usize, tile_size: usize) -> BinPart {
         assert!(tile_size.is_power_of_two(), "tiles are a power of two on a side");
-        let tiles_x = width.div_ceil(tile_size);
         // A shift, not a division: a million small triangles are four million of them.
-        let shift = tile_size.trailing_zeros();
-        BinPart { shift, tiles_x, entries: Vec::new(), counts: vec![0; tiles_x * height.div_ceil(tile_size)] }
+        BinPart { shift: tile_size.trailing_zeros(), tiles_x: width.div_ceil(tile_size), entries: Vec::new() }
     }
 
     /// Bins triangle `triangle`, whose box in pixels (inclusive, on the screen) is `bbox`.
@@ -49,9 +47,7 @@ impl BinPart {
         let [x0, y0, x1, y1] = bbox.map(|c| c as usize >> self.shift);
         for ty in y0..y1 + 1 {
             for tx in x0..x1 + 1 {
-                let tile = ty * self.tiles_x + tx;
-                self.entries.push((tile as u32, triangle));
-                self.counts[tile] += 1;
+                self.entries.push(((ty * self.tiles_x + tx) as u32, triangle));
             }
         }
     }
@@ -77,7 +73,7 @@ impl Bins {
             .par_chunks(CHUNK)
             .enumerate()
             .map(|(c, chunk)| {
-                let mut part = BinPart::new(width, height, tile_size);
+                let mut part = BinPart::new(width, tile_size);
                 for (i, t) in chunk.iter().enumerate().filter(|(_, t)| keep(t)) {
                     part.add(t.bbox, (c * CHUNK + i) as u32);
                 }
@@ -91,11 +87,11 @@ impl Bins {
     pub fn join(width: usize, height: usize, tile_size: usize, parts: &[BinPart]) -> Bins {
         let (tiles_x, tiles_y) = (width.div_ceil(tile_size), height.div_ceil(tile_size));
         let tiles = tiles_x * tiles_y;
-        // Each tile's entries after the tiles' before it.
+        // Counted, then placed: each tile's entries after the tiles' before it.
         let mut starts = vec![0usize; tiles + 1];
         for part in parts {
-            for (start, &count) in starts[1..].iter_mut().zip(&part.counts) {
-                *start += count as usize;
+            for &(tile, _) in &part.entries {
+                starts[tile as usize + 1] += 1;
             }
         }
         for t in 0..tiles {

@@ -701,13 +701,13 @@ fn setup_triangles(
         rest = after;
         base += counted.count;
     }
-    let (w, h) = (camera.width as usize, camera.height as usize);
+    let width = camera.width as usize;
     let parts = jobs
         .par_iter()
         .zip(places)
         .zip(&counts)
         .map(|((j, (place, base)), counted)| {
-            let mut bins = BinPart::new(w, h, binning.tile_size);
+            let mut bins = BinPart::new(width, binning.tile_size);
             let binned = binning.surfaces[j.0];
             setup().write_triangles(part(j), counted, place, |k, t| {
                 if binned {
