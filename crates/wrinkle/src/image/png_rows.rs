@@ -268,8 +268,8 @@ impl Output {
     }
 }
 
-/// Undoes filter `kind` on `row` (PNG specification, section 9), given the unfiltered row above; returns
-/// the kind back when it is not one of PNG's five.
+/// Undoes filter `kind` (None, Sub, Up or Average: PNG specification, section 9) on `row`, given the
+/// unfiltered row above; returns the kind back when it is not one of them.
 fn unfilter(kind: u8, bpp: usize, above: &[u8], row: &mut [u8]) -> std::result::Result<(), u8> {
     match (kind, bpp) {
         (0, _) => {}
@@ -289,13 +289,6 @@ fn unfilter(kind: u8, bpp: usize, above: &[u8], row: &mut [u8]) -> std::result::
                 row[i] = row[i].wrapping_add(((a + u16::from(above[i])) / 2) as u8);
             }
         }
-        (4, 1) => paeth::<1>(above, row),
-        (4, 2) => paeth::<2>(above, row),
-        (4, 3) => paeth::<3>(above, row),
-        (4, 4) => paeth::<4>(above, row),
-        (4, 6) => paeth::<6>(above, row),
-        (4, 8) => paeth::<8>(above, row),
-        (4, _) => unreachable!("PNG pixels are 1, 2, 3, 4, 6 or 8 bytes"),
         (kind, _) => return Err(kind),
     }
     Ok(())
@@ -305,37 +298,51 @@ fn unfilter(kind: u8, bpp: usize, above: &[u8], row: &mut [u8]) -> std::result::
 /// types. A whole group of Paeth rows goes through the wavefront.
 fn unfilter_group(kinds: &[u8], bpp: usize, row_bytes: usize, rows: &mut [u8]) -> std::result::Result<(), u8> {
     if kinds == [4; GROUP] && bpp <= 4 {
-        match bpp {
-            1 => paeth_wavefront::<1>(rows, row_bytes),
-            2 => paeth_wavefront::<2>(rows, row_bytes),
-            3 => paeth_wavefront::<3>(rows, row_bytes),
-            _ => paeth_wavefront::<4>(rows, row_bytes),
-        }
+        paeth_rows::<GROUP>(bpp, rows, row_bytes);
         return Ok(());
     }
     for (r, &kind) in kinds.iter().enumerate() {
-        let (above, row) = rows.split_at_mut((r + 1) * row_bytes);
-        unfilter(kind, bpp, &above[r * row_bytes..], &mut row[..row_bytes])?;
+        let pair = &mut rows[r * row_bytes..(r + 2) * row_bytes];
+        if kind == 4 {
+            paeth_rows::<1>(bpp, pair, row_bytes);
+        } else {
+            let (above, row) = pair.split_at_mut(row_bytes);
+            unfilter(kind, bpp, above, row)?;
+        }
     }
     Ok(())
 }
 
-/// The Paeth filter undone on `GROUP` rows at once (after the row above them, the first of `rows`), each
+/// The Paeth filter undone on the `ROWS` rows after the first of `rows`, pixels of `bpp` bytes.
+fn paeth_rows<const ROWS: usize>(bpp: usize, rows: &mut [u8], row_bytes: usize) {
+    match bpp {
+        1 => paeth_wavefront::<1, ROWS>(rows, row_bytes),
+        2 => paeth_wavefront::<2, ROWS>(rows, row_bytes),
+        3 => paeth_wavefront::<3, ROWS>(rows, row_bytes),
+        4 => paeth_wavefront::<4, ROWS>(rows, row_bytes),
+        6 => paeth_wavefront::<6, ROWS>(rows, row_bytes),
+        8 => paeth_wavefront::<8, ROWS>(rows, row_bytes),
+        _ => unreachable!("PNG pixels are 1, 2, 3, 4, 6 or 8 bytes"),
+    }
+}
+
+/// The Paeth filter undone on `ROWS` rows at once (after the row above them, the first of `rows`), each
 /// row one pixel behind the row above it. Each byte depends on its left neighbour, a chain of about six
 /// cycles a byte that a single row cannot hide; in the wavefront the rows' chains are independent, and a
-/// row's upper neighbours are the values the row above held a step earlier, still in registers.
-fn paeth_wavefront<const BPP: usize>(rows: &mut [u8], row_bytes: usize) {
+/// row's upper neighbours are the values the row above held a step earlier, still in registers. The left,
+/// upper and upper-left neighbours are carried in registers per channel.
+fn paeth_wavefront<const BPP: usize, const ROWS: usize>(rows: &mut [u8], row_bytes: usize) {
     let (above, group) = rows.split_at_mut(row_bytes);
-    let mut rows: [&mut [u8]; GROUP] = {
+    let mut rows: [&mut [u8]; ROWS] = {
         let mut chunks = group.chunks_exact_mut(row_bytes);
         std::array::from_fn(|_| chunks.next().expect("a group has its rows"))
     };
     let pixels = row_bytes / BPP;
-    let mut left = [[0i16; BPP]; GROUP];
-    let mut corner = [[0i16; BPP]; GROUP];
+    let mut left = [[0i16; BPP]; ROWS];
+    let mut corner = [[0i16; BPP]; ROWS];
     // Row r takes pixel j of step j + r; later rows first, so that a row reads its upper neighbour before
     // the row above moves on.
-    let mut step = |rows: &mut [&mut [u8]; GROUP], r: usize, j: usize| {
+    let mut step = |rows: &mut [&mut [u8]; ROWS], r: usize, j: usize| {
         for k in 0..BPP {
             let up = if r == 0 { i16::from(above[j * BPP + k]) } else { left[r - 1][k] };
             let x = &mut rows[r][j * BPP + k];
@@ -344,31 +351,17 @@ fn paeth_wavefront<const BPP: usize>(rows: &mut [u8], row_bytes: usize) {
             corner[r][k] = up;
         }
     };
-    for i in 0..pixels + GROUP - 1 {
-        if i >= GROUP - 1 && i < pixels {
-            for r in (0..GROUP).rev() {
+    for i in 0..pixels + ROWS - 1 {
+        if i >= ROWS - 1 && i < pixels {
+            for r in (0..ROWS).rev() {
                 step(&mut rows, r, i - r);
             }
         } else {
-            for r in (0..GROUP).rev() {
+            for r in (0..ROWS).rev() {
                 if let Some(j) = i.checked_sub(r).filter(|&j| j < pixels) {
                     step(&mut rows, r, j);
                 }
             }
-        }
-    }
-}
-
-/// The Paeth filter undone, pixels of `BPP` bytes: the left, upper and upper-left neighbours of each
-/// byte are carried in registers, as one chain of dependent bytes per channel.
-fn paeth<const BPP: usize>(above: &[u8], row: &mut [u8]) {
-    let (mut left, mut corner) = ([0i16; BPP], [0i16; BPP]);
-    for (x, b) in row.chunks_exact_mut(BPP).zip(above.chunks_exact(BPP)) {
-        for k in 0..BPP {
-            let up = i16::from(b[k]);
-            x[k] = x[k].wrapping_add(predict(left[k], up, corner[k]));
-            left[k] = i16::from(x[k]);
-            corner[k] = up;
         }
     }
 }
@@ -466,25 +459,27 @@ mod tests {
         }
     }
 
+    /// A grey PNG of `pixels` with `filter` on every row, written and read back whole.
+    fn assert_grey_round_trip(name: &str, (w, h): (usize, usize), filter: png::Filter, pixels: &[u8]) {
+        let dir = Scratch::new(name);
+        let path = dir.path("x.png");
+        encode(&path, (w, h), png::ColorType::Grayscale, false, filter, pixels);
+        assert_eq!(decode(&path, (w, h), 1).unwrap(), pixels);
+    }
+
     #[test]
     fn a_large_paeth_image_crosses_batches_intact() {
-        let dir = Scratch::new("png-rows-large");
-        let path = dir.path("x.png");
         let (w, h) = (1031, 600);
         let pixels: Vec<u8> = (0..w * h).map(|i| ((i % w) ^ (i / w * 7) ^ ((i * 2_654_435_761) >> 27)) as u8).collect();
-        encode(&path, (w, h), png::ColorType::Grayscale, false, png::Filter::Paeth, &pixels);
-        assert_eq!(decode(&path, (w, h), 1).unwrap(), pixels);
+        assert_grey_round_trip("png-rows-large", (w, h), png::Filter::Paeth, &pixels);
     }
 
     #[test]
     fn long_runs_that_fill_the_inflaters_buffer_come_out_whole() {
         // Rows of one value compress to long back-references, which stop mid-copy when the buffer fills.
-        let dir = Scratch::new("png-rows-runs");
-        let path = dir.path("x.png");
         let (w, h) = (1500, 1000);
         let pixels: Vec<u8> = (0..w * h).map(|i| (i / w / 97) as u8).collect();
-        encode(&path, (w, h), png::ColorType::Grayscale, false, png::Filter::NoFilter, &pixels);
-        assert_eq!(decode(&path, (w, h), 1).unwrap(), pixels);
+        assert_grey_round_trip("png-rows-runs", (w, h), png::Filter::NoFilter, &pixels);
     }
 
     #[test]

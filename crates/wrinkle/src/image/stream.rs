@@ -3,9 +3,9 @@
 //! [`ImageRows`] reads rows from top to bottom: non-interlaced PNG files (8 and 16 bit, any colour type)
 //! are decoded row by row, plain ones by `png_rows` (inflated on a thread of their own), those with a
 //! palette, fewer bits or a transparency key by the `png` crate; every other input (interlaced PNG, JPEG,
-//! BMP, TGA, TIFF) is decoded whole by the `image` crate and then handed out row by row. [`write_rows`] writes rows as a PNG
-//! through the `png` crate's streaming encoder, or collects them into a 24-bit BMP (BMP stores rows bottom
-//! up, so it cannot be streamed). Outputs are placed whole (`output::write_atomic`).
+//! BMP, TGA, TIFF) is decoded whole by the `image` crate and then handed out row by row. [`write_rows`]
+//! writes rows as a PNG through the `png` crate's streaming encoder, or collects them into a 24-bit BMP
+//! (BMP stores rows bottom up, so it cannot be streamed). Outputs are placed whole (`output::write_atomic`).
 
 use std::fs::File;
 use std::io::{BufReader, Read, Write};
