@@ -46,13 +46,13 @@ def keyvalues(text):
 
 class Tool:
     """One tool's command on one workload; `measure` runs it once and returns {metric: value}. `picture`, when
-    given, is the frame it writes, compared with wrinkle's after the rounds (or with `against`, a frame it stands
-    in for); `note` is what that found."""
+    given, is the frame it writes, compared after the rounds with wrinkle's (or with `against`, a frame it stands
+    in for, or with its metric's reference frame); `notes` holds what that found, per metric."""
 
     def __init__(self, name, argv, read, picture=None, against=None):
         self.name, self.argv, self.read, self.picture, self.against = name, argv, read, picture, against
         self.samples = {}
-        self.note = ""
+        self.notes = {}
 
     def measure(self):
         start = time.perf_counter()
@@ -77,10 +77,15 @@ def fields(mapping):
 
 # Metric name -> (unit, higher is better).
 UNITS = {}
+# Metric name -> (frame, what it is): the frame every tool's picture is compared with on that metric, where it
+# is not wrinkle's own (an equal-quality metric: each tool's picture against the converged frame).
+REFERENCES = {}
 
 
-def metric(name, unit, higher_better):
+def metric(name, unit, higher_better, reference=None):
     UNITS[name] = (unit, higher_better)
+    if reference:
+        REFERENCES[name] = reference
     return name
 
 
@@ -198,13 +203,15 @@ def psnr(a_png, b_png):
     return 10 * np.log10(255 ** 2 / max(mse, 1e-12))
 
 
-def wrinkle_frame(m, scene, frames, picture, spp=1, shading_rate="sample", against=None):
-    """wrinkle's frame of `scene` at 1920x1080 and `spp` samples: timed in-process by `wrinkle bench`, and
-    rendered once now to `picture`, which the peers' frames are compared with (and which is compared with
-    `against`, the frame of another shading rate it stands in for, where given)."""
-    size = ["--width", "1920", "--height", "1080", "--spp", str(spp), "--shading-rate", shading_rate]
+def wrinkle_frame(m, scene, frames, picture, spp=1, shading_rate="sample", against=None, extra=()):
+    """wrinkle's frame of `scene` at 1920x1080 and `spp` samples (and `extra` options): timed in-process by
+    `wrinkle bench`, and rendered once now to `picture`, which the peers' frames are compared with (and which
+    is compared with `against`, the frame of another shading rate it stands in for, where given)."""
+    size = ["--width", "1920", "--height", "1080", "--spp", str(spp), "--shading-rate", shading_rate] + list(extra)
     subprocess.run([WRINKLE, "render", scene, "-o", picture] + size, check=True, capture_output=True)
     name = "wrinkle (2 threads)" if shading_rate == "sample" else f"wrinkle (2 threads), shaded once per {shading_rate}"
+    if extra:
+        name += f", {spp} spp {' '.join(extra)}"
     return Tool(name, [WRINKLE, "bench", scene, "--frames", frames] + size, fields({m: "median_ms"}), picture=picture,
                 against=against)
 
@@ -227,6 +234,16 @@ def canonical_workload(args, work):
             tools.append(wrinkle_frame(mp, scene, frames, os.path.join(work, f"wrinkle_canonical_{spp}_pixel.png"),
                                        spp, "pixel", against=tools[-1].picture))
             ms[mp] = "median_ms"
+            # Equal quality: 4 samples with the level of detail half a level finer (docs/filtering.md) come
+            # as close to the converged frame as the peers' 16; each picture is measured against that frame.
+            converged = os.path.join(work, "wrinkle_canonical_converged.png")
+            subprocess.run([WRINKLE, "render", scene, "-o", converged, "--width", "1920", "--height", "1080",
+                            "--spp", "64" if args.quick else "256"], check=True, capture_output=True)
+            mq = metric(f"canonical bump-mapped sphere 1920x1080 at {spp} spp's quality (wrinkle 4 spp, lod bias -0.5), "
+                        "frame", "ms", False, reference=(converged, f"the converged frame ({'64' if args.quick else '256'} spp)"))
+            tools.append(wrinkle_frame(mq, scene, frames, os.path.join(work, "wrinkle_canonical_4_lod.png"), 4,
+                                       extra=["--lod-bias", "-0.5"]))
+            ms[mq] = "median_ms"
         if python_has("moderngl", "numpy", "PIL"):
             theirs = os.path.join(work, f"llvmpipe_canonical_{spp}.png")
             name = "Mesa llvmpipe (GLSL Blinn bump, 512x256 sphere mesh" + (f", {ss}x{ss} supersampled)" if ss > 1 else ")")
@@ -334,14 +351,15 @@ def main():
                   file=sys.stderr)
             continue
         for tool in tools:
-            # The wrinkle run of the same metric (every workload lists wrinkle first for each of its metrics);
-            # a second wrinkle run (another shading rate) is compared with the frame it stands in for.
-            ours = next(t for t in tools if t.name.startswith("wrinkle") and set(t.samples) & set(tool.samples))
-            reference = tool.against or (ours.picture if tool is not ours else None)
-            if reference and tool.picture and python_has("numpy", "PIL"):
-                tool.note = f"PSNR {psnr(reference, tool.picture):.1f} dB against wrinkle's frame"
-                if tool.against:
-                    tool.note += " shading every sample"
+            for m in tool.samples:
+                # The metric's reference frame; else the frame a second wrinkle run (another shading rate)
+                # stands in for; else the wrinkle run of the same metric (listed first for each metric).
+                ours = next(t for t in tools if t.name.startswith("wrinkle") and m in t.samples)
+                reference, what = REFERENCES.get(m) or (
+                    (tool.against, "wrinkle's frame shading every sample") if tool.against else
+                    (ours.picture if tool is not ours else None, "wrinkle's frame"))
+                if reference and tool.picture and python_has("numpy", "PIL"):
+                    tool.notes[m] = f"PSNR {psnr(reference, tool.picture):.1f} dB against {what}"
         rows.extend(tools)
     print("| workload | tool | median | best | unit | wrinkle's advantage | picture |")
     print("| --- | --- | --- | --- | --- | --- | --- |")
@@ -355,7 +373,7 @@ def main():
             if ours is None:
                 ours = median  # the first tool of every workload is wrinkle
             ratio = (ours / median) if higher else (median / ours)
-            print(f"| {m} | {tool.name} | {median:.1f} | {best:.1f} | {unit} | {ratio:.2f}x | {tool.note} |")
+            print(f"| {m} | {tool.name} | {median:.1f} | {best:.1f} | {unit} | {ratio:.2f}x | {tool.notes.get(m, '')} |")
 
 
 if __name__ == "__main__":

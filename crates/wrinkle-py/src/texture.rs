@@ -48,7 +48,7 @@ fn view<'a, T: numpy::Element>(a: &'a PyReadonlyArrayDyn<'_, T>) -> PyResult<Ima
 impl Texture {
     /// `rgba8` (H, W, 4) uint8, sRGB-encoded when `srgb`, or `rgba` (H, W, 4) float32 linear: exactly one.
     #[new]
-    #[pyo3(signature = (rgba8, rgba, srgb, wrap, mip_filter, filter, max_aniso, border))]
+    #[pyo3(signature = (rgba8, rgba, srgb, wrap, mip_filter, filter, max_aniso, border, lod_bias))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
@@ -60,12 +60,17 @@ impl Texture {
         filter: &str,
         max_aniso: f32,
         border: [f32; 4],
+        lod_bias: f32,
     ) -> PyResult<Texture> {
+        if !(-4.0..=4.0).contains(&lod_bias) {
+            return Err(invalid(format!("lod_bias: expected a number of levels from -4 to 4, got {lod_bias}")));
+        }
         let options = TextureOptions {
             wrap: [parse("wrap", &wrap.0, &Wrap::NAMES)?, parse("wrap", &wrap.1, &Wrap::NAMES)?],
             border: Vec4::from(border),
             mip_filter: parse("mip_filter", mip_filter, &MipFilter::NAMES)?,
             filter: filter_options(filter, max_aniso)?,
+            lod_bias,
         };
         // The texture reads the array in place (a view of its buffer), without a copy into an image.
         let texture = match (rgba8, rgba) {

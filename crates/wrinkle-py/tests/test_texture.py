@@ -99,3 +99,16 @@ def test_bad_texture_arguments():
         tex.sample(np.zeros((3, 3), np.float32))
     with pytest.raises(ValueError, match="max_aniso"):
         tex.sample([0.5, 0.5], max_aniso=0.0)
+    with pytest.raises(ValueError, match="lod_bias"):
+        wrinkle.Texture(np.zeros((4, 4, 4), np.float32), lod_bias=float("nan"))
+
+
+def test_lod_bias_scales_the_footprint():
+    """A bias of -1 reads as the footprint halved, exactly (OpenGL's GL_TEXTURE_LOD_BIAS on the level)."""
+    rng = np.random.default_rng(3)
+    pixels = rng.integers(0, 256, (64, 64, 4), dtype=np.uint8)
+    plain, finer = wrinkle.Texture(pixels), wrinkle.Texture(pixels, lod_bias=-1.0)
+    uv = rng.random((200, 2), dtype=np.float32)
+    fp = (rng.random((200, 4), dtype=np.float32) - 0.5) * np.float32(0.2)
+    assert np.array_equal(finer.sample(uv, fp), plain.sample(uv, fp * np.float32(0.5)))
+    assert not np.array_equal(finer.sample(uv, fp), plain.sample(uv, fp))

@@ -752,6 +752,38 @@ fn render_filter_overrides_the_scene_and_unknown_names_fail() {
     assert!(run.stderr.contains("fancy"), "{}", run.stderr);
 }
 
+/// `--lod-bias` moves every image texture's level of detail as the scene's `lod_bias` does, overriding it;
+/// no bias leaves the frame as it was; out-of-range values fail in one line.
+#[test]
+fn render_lod_bias_is_the_scenes_lod_bias_and_overrides_it() {
+    let s = Scratch::new("render_lod_bias");
+    let tex = s.input("tex.png");
+    assert_ok(&wrinkle(&["bumpgen", "grid", "-o", &tex, "--size", "64"]));
+    let scene = |bias: &str| {
+        scene_with(&format!(
+            "shape = \"sphere\"\n\n[object.material]\ntexture = {{ path = \"tex.png\", repeat = [8, 4]{bias} }}\n"
+        ))
+    };
+    let (plain, biased) =
+        (s.write_input("plain.toml", scene("")), s.write_input("biased.toml", scene(", lod_bias = -1")));
+    let frame = |scene: &str, extra: &[&str]| {
+        let mut args = vec!["--spp", "4"];
+        args.extend_from_slice(extra);
+        assert_ok(&render_scene(&s, scene, &args));
+        std::fs::read(s.out("x.png")).unwrap()
+    };
+    let none = frame(&plain, &[]);
+    assert_eq!(frame(&plain, &["--lod-bias", "0"]), none, "no bias, the same frame");
+    let finer = frame(&plain, &["--lod-bias", "-1"]);
+    assert_ne!(finer, none, "--lod-bias -1 must change the frame");
+    assert_eq!(frame(&biased, &[]), finer, "the scene's lod_bias = -1");
+    assert_eq!(frame(&biased, &["--lod-bias", "0"]), none, "--lod-bias overrides the scene");
+    let bad = Scratch::new("render_lod_bias_bad");
+    let run = render_scene(&bad, &plain, &["--lod-bias", "7"]);
+    assert_eq!(run.code, 2, "{run:#?}");
+    assert!(run.stderr.contains("--lod-bias") && run.stderr.contains("-4 to 4"), "{}", run.stderr);
+}
+
 /// A short run (10^5 lookups on a 512^2 texture, well under a scheduler tick) reports figures a CPU can
 /// reach: a trilinear lookup reads eight texels, so no thread does 150 million a second. Read from the
 /// scheduler's statistics (brought up to date at its 4 ms ticks), its CPU time came in whole ticks, often

@@ -216,7 +216,9 @@ class Texture:
 
     `pixels`: (H, W), (H, W, 3) or (H, W, 4); uint8 (stored in 8 bits, sRGB-decoded when `srgb`), uint16
     or float (linear unless `srgb` for uint16). Row 0 is the top of the image; t runs up it.
-    `wrap`: "repeat", "clamp", "mirror" or "border", or a pair (s, t)."""
+    `wrap`: "repeat", "clamp", "mirror" or "border", or a pair (s, t).
+    `lod_bias`: levels added to the level of detail (every footprint scaled by 2**lod_bias), -4 to 4;
+    -0.5 suits lookups that stand for one of several samples of a pixel."""
 
     __slots__ = ("_texture",)
 
@@ -229,6 +231,7 @@ class Texture:
         mip_filter: str = "box",
         max_aniso: float = 16.0,
         border: Sequence[float] = (0.0, 0.0, 0.0, 0.0),
+        lod_bias: float = 0.0,
     ) -> None:
         a = np.asarray(pixels)
         if a.ndim == 2:
@@ -257,7 +260,7 @@ class Texture:
             raise ValueError(f"border: expected four numbers (RGBA), got {len(border)}")
         self._texture = _wrinkle.Texture(
             rgba8, rgba, bool(srgb), (str(wraps[0]), str(wraps[1])), str(mip_filter), str(filter),
-            float(max_aniso), border,
+            float(max_aniso), border, float(lod_bias),
         )
 
     @property

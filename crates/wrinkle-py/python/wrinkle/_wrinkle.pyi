@@ -82,6 +82,7 @@ class Texture:
         filter: str,
         max_aniso: float,
         border: Sequence[float],
+        lod_bias: float,
     ) -> None: ...
     @property
     def size(self) -> Tuple[int, int]: ...

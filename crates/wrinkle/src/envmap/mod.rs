@@ -57,8 +57,13 @@ impl Environment {
             Layout::LatLong => [Wrap::Repeat, Wrap::Clamp],
             _ => [Wrap::Clamp; 2],
         };
-        let texture_options =
-            TextureOptions { wrap, border: Vec4::ZERO, mip_filter: MipFilter::Box, filter: options.filter };
+        let texture_options = TextureOptions {
+            wrap,
+            border: Vec4::ZERO,
+            mip_filter: MipFilter::Box,
+            filter: options.filter,
+            lod_bias: 0.0,
+        };
         let (stored, inset, scale) = match layout {
             Layout::Cube => {
                 let (n, p) = (images[0].width as f32, cube::padding(images[0].width) as f32);

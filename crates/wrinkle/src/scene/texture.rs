@@ -34,6 +34,7 @@ const TEXTURE_FIELDS: &[&str] = &[
     "mipmap",
     "level",
     "max_aniso",
+    "lod_bias",
     "indexed",
     "palette",
     "lut",
@@ -152,6 +153,7 @@ fn parse_texture_with(
                 border: border(&f, wrap)?,
                 mip_filter: f.choice("mipmap", MipFilter::Box, &MipFilter::NAMES)?,
                 filter,
+                lod_bias: lod_bias(&f)?,
             };
             let mapping = parse_mapping(&f.at("mapping"), f.get("mapping"), uv_transform(&f)?)?;
             let srgb = f.boolean("srgb", srgb_default)?;
@@ -318,6 +320,11 @@ fn wrap(f: &Fields) -> Result<[Wrap; 2]> {
     }
 }
 
+/// The level-of-detail bias, in levels: from -4 to 4 (a factor of 16 in the footprint either way).
+fn lod_bias(f: &Fields) -> Result<f32> {
+    f.number_where("lod_bias", Some(0.0), |x| (-4.0..=4.0).contains(&x), "a number of levels from -4 to 4")
+}
+
 /// The border colour, linear RGB or RGBA (alpha 1 when left out), components in [0, 1]; only where an axis
 /// wraps to the border.
 fn border(f: &Fields, wrap: [Wrap; 2]) -> Result<Vec4> {
@@ -336,9 +343,18 @@ fn border(f: &Fields, wrap: [Wrap; 2]) -> Result<Vec4> {
 impl crate::Scene {
     /// Every layer's texture that has a choice of filters takes `filter` (`--filter` overriding the scene).
     pub fn set_texture_filter(&mut self, filter: Filter) {
+        self.change_texture_lookups(&|o| o.filter.filter = filter);
+    }
+
+    /// Every layer's image texture takes the level-of-detail bias `bias` (`--lod-bias` overriding the scene).
+    pub fn set_texture_lod_bias(&mut self, bias: f32) {
+        self.change_texture_lookups(&|o| o.lod_bias = bias);
+    }
+
+    fn change_texture_lookups(&mut self, change: &dyn Fn(&mut TextureOptions)) {
         for layer in self.materials.iter_mut().flat_map(|m| &mut m.layers) {
-            if let Some(filtered) = layer.source.texture.with_filter(filter) {
-                layer.source.texture = filtered;
+            if let Some(changed) = layer.source.texture.with_lookup(change) {
+                layer.source.texture = changed;
             }
         }
     }

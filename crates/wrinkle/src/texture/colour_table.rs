@@ -3,7 +3,7 @@
 //! The slides' "Color Index Textures" and SGI's table lookups after the texture samples.
 
 use super::wrap::Wrap;
-use super::{Filter, LookupContext, Texture};
+use super::{LookupContext, Texture, TextureOptions};
 use crate::image::Image;
 use glam::Vec4;
 use std::sync::Arc;
@@ -76,9 +76,9 @@ impl Texture for LutTexture {
         self.map(self.intensity.eval(ctx))
     }
 
-    /// The intensity's filter changes; the table stays.
-    fn with_filter(&self, filter: Filter) -> Option<Arc<dyn Texture>> {
-        let intensity = self.intensity.with_filter(filter)?;
+    /// The intensity's lookup changes; the table stays.
+    fn with_lookup(&self, change: &dyn Fn(&mut TextureOptions)) -> Option<Arc<dyn Texture>> {
+        let intensity = self.intensity.with_lookup(change)?;
         Some(Arc::new(LutTexture { intensity, table: self.table.clone() }))
     }
 }

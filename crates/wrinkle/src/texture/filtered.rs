@@ -22,6 +22,11 @@ pub struct TextureOptions {
     pub border: Vec4,
     pub mip_filter: MipFilter,
     pub filter: FilterOptions,
+    /// Added to the level of detail, as OpenGL's `GL_TEXTURE_LOD_BIAS`: every footprint is scaled by
+    /// 2^lod_bias before filtering, so a MIP filter reads lod_bias levels coarser (finer where negative).
+    /// -0.5 suits supersampled frames: a tent over a level's texels (bilinear) has twice the variance of the
+    /// box over the sample's cell it stands for (docs/filtering.md).
+    pub lod_bias: f32,
 }
 
 impl Default for TextureOptions {
@@ -31,6 +36,7 @@ impl Default for TextureOptions {
             border: Vec4::ZERO,
             mip_filter: MipFilter::Box,
             filter: FilterOptions::default(),
+            lod_bias: 0.0,
         }
     }
 }
@@ -39,6 +45,8 @@ pub struct FilteredTexture {
     data: Arc<Levels>,
     options: TextureOptions,
     path: Path,
+    /// 2^lod_bias, by which every footprint is scaled.
+    footprint_scale: f32,
 }
 
 /// Which code serves a lookup, decided once from the data and the options: the common cases of 8-bit
@@ -130,13 +138,24 @@ impl FilteredTexture {
 
     fn of(data: Levels, options: TextureOptions) -> Self {
         let path = Path::of(&data, &options);
-        FilteredTexture { data: Arc::new(data), options, path }
+        FilteredTexture { data: Arc::new(data), options, path, footprint_scale: options.lod_bias.exp2() }
     }
 
     /// The same texture data looked up with other filter options (the pyramid is shared, not rebuilt).
     pub fn with_options(&self, filter: FilterOptions) -> FilteredTexture {
-        let options = TextureOptions { filter, ..self.options };
-        FilteredTexture { data: Arc::clone(&self.data), options, path: Path::of(&self.data, &options) }
+        self.with_lookup(TextureOptions { filter, ..self.options })
+    }
+
+    /// The same texture data looked up with other filter options and level-of-detail bias; the wrap, border
+    /// and MIP filter the data was prepared with stay.
+    pub fn with_lookup(&self, options: TextureOptions) -> FilteredTexture {
+        let options = TextureOptions { filter: options.filter, lod_bias: options.lod_bias, ..self.options };
+        FilteredTexture {
+            data: Arc::clone(&self.data),
+            options,
+            path: Path::of(&self.data, &options),
+            footprint_scale: options.lod_bias.exp2(),
+        }
     }
 
     /// (width, height) of level 0 in texels.
@@ -162,6 +181,8 @@ impl FilteredTexture {
     /// The filtered texture at (s, t) of one period, footprint in the same units.
     #[inline]
     pub fn lookup(&self, s: f32, t: f32, fp: &Footprint) -> Vec4 {
+        // Scaling by 1 (no bias) changes no bit.
+        let fp = &fp.scaled(self.footprint_scale);
         match (self.path, &*self.data) {
             (Path::Trilinear8, Levels::Bytes(d)) => trilinear_taps8(d.levels(), s, t, fp),
             (Path::Aniso8, Levels::Bytes(d)) => {
@@ -228,12 +249,17 @@ impl Texture for FilteredTexture {
 
     fn eval8(&self, ctx: &LookupContext8<'_>) -> [F8; 4] {
         match (self.path, &*self.data) {
-            (Path::Trilinear8, Levels::Bytes(d)) => trilinear8(d.levels(), ctx.u, ctx.v, &ctx.footprint),
+            (Path::Trilinear8, Levels::Bytes(d)) => {
+                trilinear8(d.levels(), ctx.u, ctx.v, &ctx.footprint.scaled(self.footprint_scale))
+            }
+            // Each lane's `lookup` scales its footprint.
             _ => lane_by_lane(self, ctx),
         }
     }
 
-    fn with_filter(&self, filter: Filter) -> Option<Arc<dyn Texture>> {
-        Some(Arc::new(self.with_options(FilterOptions { filter, ..self.options.filter })))
+    fn with_lookup(&self, change: &dyn Fn(&mut TextureOptions)) -> Option<Arc<dyn Texture>> {
+        let mut options = self.options;
+        change(&mut options);
+        Some(Arc::new(FilteredTexture::with_lookup(self, options)))
     }
 }

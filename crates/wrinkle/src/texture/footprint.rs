@@ -38,6 +38,12 @@ impl Footprint {
         }
     }
 
+    /// The footprint with both axes `k` times as long.
+    #[inline]
+    pub fn scaled(&self, k: f32) -> Footprint {
+        Footprint { dudx: self.dudx * k, dvdx: self.dvdx * k, dudy: self.dudy * k, dvdy: self.dvdy * k }
+    }
+
     /// The footprint measured in texels of a `width` x `height` level: (du/dx, dv/dx, du/dy, dv/dy) * size.
     #[inline]
     pub fn in_texels(&self, width: usize, height: usize) -> [f32; 4] {
@@ -59,6 +65,13 @@ impl Footprint8 {
     pub fn from_lanes(f: &[Footprint; LANES]) -> Footprint8 {
         let lane = |get: fn(&Footprint) -> f32| F8::new(f.map(|p| get(&p)));
         Footprint8 { dudx: lane(|p| p.dudx), dvdx: lane(|p| p.dvdx), dudy: lane(|p| p.dudy), dvdy: lane(|p| p.dvdy) }
+    }
+
+    /// The footprints with both axes `k` times as long.
+    #[inline]
+    pub fn scaled(&self, k: f32) -> Footprint8 {
+        let k = F8::splat(k);
+        Footprint8 { dudx: self.dudx * k, dvdx: self.dvdx * k, dudy: self.dudy * k, dvdy: self.dvdy * k }
     }
 
     /// The footprint of lane `i`.

@@ -46,9 +46,10 @@ pub trait Texture: Send + Sync {
         lane_by_lane(self, ctx)
     }
 
-    /// The same texture looked up with another filter (`--filter` overriding a scene), where the source
-    /// has a choice of filters; `None` keeps it as it is.
-    fn with_filter(&self, _filter: Filter) -> Option<std::sync::Arc<dyn Texture>> {
+    /// The same texture looked up with its filter options or level-of-detail bias changed by `change`
+    /// (`--filter` and `--lod-bias` overriding a scene), where the source is an image with that choice;
+    /// `None` keeps it as it is.
+    fn with_lookup(&self, _change: &dyn Fn(&mut TextureOptions)) -> Option<std::sync::Arc<dyn Texture>> {
         None
     }
 
