@@ -7,6 +7,8 @@
 
 use crate::limits::Limit;
 use glam::{Affine3A, Mat3, Vec2, Vec3, Vec4};
+use rayon::prelude::*;
+use rustc_hash::FxHashMap;
 
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TriangleMesh {
@@ -124,17 +126,65 @@ impl TriangleMesh {
                 a != b && a != c && b != c
             })
             .collect();
-        let mut tangents = vec![Vec4::new(1.0, 0.0, 0.0, 1.0); self.positions.len()];
-        if !faces.is_empty() {
-            let mut corners = Corners { mesh: self, faces, uv_set, scale, tangents };
-            if !mikktspace::generate_tangents(&mut corners) {
-                return false;
-            }
-            tangents = corners.tangents;
-        }
+        let parts = if faces.len() >= PARALLEL_MIKKTSPACE_FROM { rayon::current_num_threads() } else { 1 };
+        let Some(tangents) = self.mikktspace_in_parts(&faces, &original, uv_set, scale, parts) else { return false };
         self.tangents = tangents;
         self.weld(&original);
         true
+    }
+
+    /// MikkTSpace's tangent for every corner of the split mesh (the default +x where `faces` leaves a
+    /// triangle out), run on `parts` runs of `faces` at once, each with its halo: every triangle that shares
+    /// a vertex with the run, a vertex being what MikkTSpace welds (equal position, normal and coordinates).
+    /// A corner's tangent depends only on the triangles around its vertex (their groups, subgroups and the
+    /// order they come in), so each run's own corners come out bit for bit as one run over all the faces
+    /// gives them (tested). `original` is each corner's vertex before the split. None where MikkTSpace fails.
+    fn mikktspace_in_parts(
+        &self,
+        faces: &[usize],
+        original: &[u32],
+        uv_set: usize,
+        scale: f32,
+        parts: usize,
+    ) -> Option<Vec<Vec4>> {
+        let mut tangents = vec![Vec4::new(1.0, 0.0, 0.0, 1.0); self.positions.len()];
+        if faces.is_empty() {
+            return Some(tangents);
+        }
+        let parts = parts.clamp(1, faces.len());
+        // The runs as positions in `faces`: each run's own, then its halo's, in the order of `faces`.
+        let runs: Vec<(std::ops::Range<usize>, Vec<usize>)> = if parts == 1 {
+            vec![(0..faces.len(), (0..faces.len()).collect())]
+        } else {
+            let around = FacesAroundVertices::of(self, faces, original, uv_set, scale);
+            (0..parts)
+                .into_par_iter()
+                .map(|p| {
+                    let own = p * faces.len() / parts..(p + 1) * faces.len() / parts;
+                    let mut marked = vec![false; faces.len()];
+                    own.clone().flat_map(|f| around.of_face(f)).for_each(|g| marked[g] = true);
+                    let with_halo = (0..faces.len()).filter(|&g| marked[g]).collect();
+                    (own, with_halo)
+                })
+                .collect()
+        };
+        let results: Vec<Option<Vec<Vec4>>> = runs
+            .par_iter()
+            .map(|(_, with_halo)| {
+                let faces = with_halo.iter().map(|&f| faces[f]).collect();
+                let mut corners =
+                    Corners { mesh: self, faces, uv_set, scale, tangents: vec![Vec4::ZERO; 3 * with_halo.len()] };
+                mikktspace::generate_tangents(&mut corners).then_some(corners.tangents)
+            })
+            .collect();
+        for ((own, with_halo), run_tangents) in runs.iter().zip(results) {
+            let run_tangents = run_tangents?;
+            for (k, &f) in with_halo.iter().enumerate().filter(|(_, f)| own.contains(f)) {
+                let t = 3 * faces[f];
+                tangents[t..t + 3].copy_from_slice(&run_tangents[3 * k..3 * k + 3]);
+            }
+        }
+        Some(tangents)
     }
 
     /// Merges the corners of each vertex of the mesh before `split_corners` (`original`, per corner) that
@@ -254,6 +304,74 @@ fn join<T: Clone>(mine: &mut Vec<T>, theirs: &[T]) {
 
 /// The mesh as MikkTSpace reads it: every face a triangle with three distinct corners, every corner its
 /// own vertex.
+/// Faces from which MikkTSpace runs in parts (below, one run is quicker than finding the halos).
+const PARALLEL_MIKKTSPACE_FROM: usize = 20_000;
+
+/// The faces around each vertex of a split mesh, a vertex being what MikkTSpace welds: corners with equal
+/// position (as scaled), normal and coordinates (compared as numbers: 0 and -0 are one value).
+struct FacesAroundVertices {
+    /// Per corner of the faces given (3 per face, in their order), its vertex.
+    vertex: Vec<u32>,
+    /// Per vertex, its range in `faces`; `faces` holds positions in the faces given, ascending.
+    starts: Vec<u32>,
+    faces: Vec<u32>,
+}
+
+impl FacesAroundVertices {
+    /// `original` is each corner's vertex before the split: corners of one such vertex are equal, so each is
+    /// looked up once (a sixth of the corners of a smooth mesh).
+    fn of(mesh: &TriangleMesh, faces: &[usize], original: &[u32], uv_set: usize, scale: f32) -> FacesAroundVertices {
+        let key = |c: usize| -> Option<[u32; 8]> {
+            let (p, n, uv) = (mesh.positions[c] * scale, mesh.normals[c], mesh.uv_sets[uv_set][c]);
+            let v = [p.x, p.y, p.z, n.x, n.y, n.z, uv.x, uv.y];
+            // NaN equals nothing in MikkTSpace's comparison: such a corner is a vertex of its own.
+            v.iter().all(|x| !x.is_nan()).then(|| v.map(|x| (x + 0.0).to_bits()))
+        };
+        const NONE: u32 = u32::MAX;
+        let mut index: FxHashMap<[u32; 8], u32> = FxHashMap::default();
+        let mut of_original = vec![NONE; original.iter().map(|&o| o as usize + 1).max().unwrap_or(0)];
+        let mut count = 0u32;
+        let mut vertex = Vec::with_capacity(3 * faces.len());
+        for c in faces.iter().flat_map(|&f| (0..3).map(move |k| 3 * f + k)) {
+            let o = original[c] as usize;
+            if of_original[o] == NONE {
+                let mut fresh = || {
+                    count += 1;
+                    count - 1
+                };
+                of_original[o] = match key(c) {
+                    Some(k) => *index.entry(k).or_insert_with(&mut fresh),
+                    None => fresh(),
+                };
+            }
+            vertex.push(of_original[o]);
+        }
+        let mut starts = vec![0u32; count as usize + 1];
+        for &v in &vertex {
+            starts[v as usize + 1] += 1;
+        }
+        for v in 0..count as usize {
+            starts[v + 1] += starts[v];
+        }
+        let mut next = starts.clone();
+        let mut around = vec![0u32; vertex.len()];
+        // Corners in face order, so each vertex's faces come out ascending.
+        for (c, &v) in vertex.iter().enumerate() {
+            around[next[v as usize] as usize] = (c / 3) as u32;
+            next[v as usize] += 1;
+        }
+        FacesAroundVertices { vertex, starts, faces: around }
+    }
+
+    /// The faces (positions in the faces given) that share a vertex with face `f`, `f` among them.
+    fn of_face(&self, f: usize) -> impl Iterator<Item = usize> + '_ {
+        self.vertex[3 * f..3 * f + 3].iter().flat_map(move |&v| {
+            let (a, b) = (self.starts[v as usize] as usize, self.starts[v as usize + 1] as usize);
+            self.faces[a..b].iter().map(|&g| g as usize)
+        })
+    }
+}
+
 struct Corners<'a> {
     mesh: &'a TriangleMesh,
     /// The triangles it is given, by index.
@@ -261,6 +379,7 @@ struct Corners<'a> {
     uv_set: usize,
     /// What positions are multiplied by: 1, or a power of two that brings a huge mesh to about a unit.
     scale: f32,
+    /// Per corner of the faces given (3 per face, in their order).
     tangents: Vec<Vec4>,
 }
 
@@ -287,14 +406,102 @@ impl mikktspace::Geometry for Corners<'_> {
         self.mesh.uv_sets[self.uv_set][self.corner(face, vert)].to_array()
     }
     fn set_tangent_encoded(&mut self, tangent: [f32; 4], face: usize, vert: usize) {
-        let k = self.corner(face, vert);
-        self.tangents[k] = Vec4::from_array(tangent);
+        self.tangents[3 * face + vert] = Vec4::from_array(tangent);
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// MikkTSpace in parts, each with the faces around its vertices, gives every corner the bits of one
+    /// run over the whole mesh: on a bumpy grid with a uv seam (vertices doubled with other coordinates),
+    /// a mirrored half, vertices repeated by value under other indices, a sliver of no area, a face turned
+    /// over, an edge three faces share, and -0 beside 0.
+    #[test]
+    fn mikktspace_in_parts_equals_one_run() {
+        let (nx, ny) = (24usize, 17usize);
+        let mut mesh = TriangleMesh::default();
+        let jitter = |k: usize| ((k * 2654435761) % 1000) as f32 / 1000.0 - 0.5;
+        for j in 0..=ny {
+            for i in 0..=nx {
+                let k = j * (nx + 1) + i;
+                let (x, y) = (i as f32 / nx as f32, j as f32 / ny as f32);
+                mesh.positions.push(Vec3::new(x, y, 0.05 * jitter(k)));
+                mesh.normals.push(Vec3::new(0.2 * jitter(k + 7), 0.2 * jitter(k + 11), 1.0).normalize());
+                // The right half mirrored in u; at y = 0, -0 for the first column.
+                let u = if x > 0.5 { 1.0 - x } else { x };
+                mesh.positions[k].x = if i == 0 && j == 0 { -0.0 } else { mesh.positions[k].x };
+                mesh.uv_sets.resize(1, Vec::new());
+                mesh.uv_sets[0].push(Vec2::new(u, y + 0.01 * jitter(k + 3)));
+            }
+        }
+        let at = |i: usize, j: usize| (j * (nx + 1) + i) as u32;
+        for j in 0..ny {
+            for i in 0..nx {
+                mesh.triangles.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+                mesh.triangles.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+            }
+        }
+        // A uv seam: the vertices of column 5 again, with other u, used by the faces right of it.
+        let seam: Vec<u32> = (0..=ny)
+            .map(|j| {
+                let k = at(5, j) as usize;
+                mesh.positions.push(mesh.positions[k]);
+                mesh.normals.push(mesh.normals[k]);
+                let uv = mesh.uv_sets[0][k] + Vec2::new(0.3, 0.0);
+                mesh.uv_sets[0].push(uv);
+                (mesh.positions.len() - 1) as u32
+            })
+            .collect();
+        for t in &mut mesh.triangles {
+            let right = t.iter().any(|&v| v as usize % (nx + 1) == 6);
+            for v in t.iter_mut().filter(|v| right && **v as usize % (nx + 1) == 5) {
+                *v = seam[*v as usize / (nx + 1)];
+            }
+        }
+        // A repeat of vertex 40 by value under another index, used by the faces that used 40.
+        mesh.positions.push(mesh.positions[40]);
+        mesh.normals.push(mesh.normals[40]);
+        let uv = mesh.uv_sets[0][40];
+        mesh.uv_sets[0].push(uv);
+        let twin = (mesh.positions.len() - 1) as u32;
+        for t in mesh.triangles.iter_mut().step_by(2) {
+            t.iter_mut().filter(|v| **v == 40).for_each(|v| *v = twin);
+        }
+        // A sliver (three corners in a line), a face turned over, a third face on an edge.
+        mesh.triangles.push([at(2, 2), at(3, 2), at(4, 2)]);
+        mesh.triangles.push([at(8, 8), at(9, 9), at(9, 8)]);
+        mesh.triangles.push([at(10, 10), at(11, 11), at(12, 3)]);
+        // Far down the list, a face on the edge from vertex 0 (x = -0) to the one above it (x = +0) through
+        // copies with the zeros' signs swapped, which MikkTSpace welds to them (0 == -0).
+        let copy = |mesh: &mut TriangleMesh, k: usize, x: f32| {
+            mesh.positions.push(Vec3 { x, ..mesh.positions[k] });
+            mesh.normals.push(mesh.normals[k]);
+            let uv = mesh.uv_sets[0][k];
+            mesh.uv_sets[0].push(uv);
+            (mesh.positions.len() - 1) as u32
+        };
+        let (zero, above) = (copy(&mut mesh, 0, 0.0), copy(&mut mesh, at(0, 1) as usize, -0.0));
+        // Its third corner left of the edge, wound as the faces right of it in uv, so that MikkTSpace groups
+        // it with them at both corners.
+        mesh.positions.push(Vec3::new(-0.04, 0.03, 0.0));
+        mesh.normals.push(Vec3::Z);
+        mesh.uv_sets[0].push(Vec2::new(-0.04, 0.03));
+        mesh.triangles.push([zero, above, (mesh.positions.len() - 1) as u32]);
+        mesh.validate().unwrap();
+
+        let original: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
+        mesh.split_corners();
+        let faces: Vec<usize> = (0..mesh.triangles.len()).collect();
+        let one = mesh.mikktspace_in_parts(&faces, &original, 0, 1.0, 1).unwrap();
+        assert!(one.iter().any(|t| t.w < 0.0) && one.iter().any(|t| t.w > 0.0), "the mirror flips the sign");
+        for parts in [2, 3, 7, 64] {
+            let split = mesh.mikktspace_in_parts(&faces, &original, 0, 1.0, parts).unwrap();
+            let bits = |v: &[Vec4]| v.iter().map(|t| t.to_array().map(f32::to_bits)).collect::<Vec<_>>();
+            assert_eq!(bits(&split), bits(&one), "{parts} parts");
+        }
+    }
 
     /// A unit square in z = 0 of two triangles, u along +x and v along +y.
     fn square() -> TriangleMesh {
