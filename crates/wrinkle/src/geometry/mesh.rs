@@ -302,8 +302,6 @@ fn join<T: Clone>(mine: &mut Vec<T>, theirs: &[T]) {
     }
 }
 
-/// The mesh as MikkTSpace reads it: every face a triangle with three distinct corners, every corner its
-/// own vertex.
 /// Faces from which MikkTSpace runs in parts (below, one run is quicker than finding the halos).
 const PARALLEL_MIKKTSPACE_FROM: usize = 20_000;
 
@@ -372,6 +370,8 @@ impl FacesAroundVertices {
     }
 }
 
+/// The mesh as MikkTSpace reads it: every face a triangle with three distinct corners, every corner its
+/// own vertex.
 struct Corners<'a> {
     mesh: &'a TriangleMesh,
     /// The triangles it is given, by index.
