@@ -143,13 +143,13 @@ impl FilteredTexture {
 
     /// The same texture data looked up with other filter options (the pyramid is shared, not rebuilt).
     pub fn with_options(&self, filter: FilterOptions) -> FilteredTexture {
-        self.with_lookup(TextureOptions { filter, ..self.options })
+        self.with_lookup(filter, self.options.lod_bias)
     }
 
     /// The same texture data looked up with other filter options and level-of-detail bias; the wrap, border
     /// and MIP filter the data was prepared with stay.
-    pub fn with_lookup(&self, options: TextureOptions) -> FilteredTexture {
-        let options = TextureOptions { filter: options.filter, lod_bias: options.lod_bias, ..self.options };
+    pub fn with_lookup(&self, filter: FilterOptions, lod_bias: f32) -> FilteredTexture {
+        let options = TextureOptions { filter, lod_bias, ..self.options };
         FilteredTexture {
             data: Arc::clone(&self.data),
             options,
@@ -260,6 +260,6 @@ impl Texture for FilteredTexture {
     fn with_lookup(&self, change: &dyn Fn(&mut TextureOptions)) -> Option<Arc<dyn Texture>> {
         let mut options = self.options;
         change(&mut options);
-        Some(Arc::new(FilteredTexture::with_lookup(self, options)))
+        Some(Arc::new(FilteredTexture::with_lookup(self, options.filter, options.lod_bias)))
     }
 }

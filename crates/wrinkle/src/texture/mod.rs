@@ -48,7 +48,8 @@ pub trait Texture: Send + Sync {
 
     /// The same texture looked up with its filter options or level-of-detail bias changed by `change`
     /// (`--filter` and `--lod-bias` overriding a scene), where the source is an image with that choice;
-    /// `None` keeps it as it is.
+    /// `None` keeps it as it is. Only those two take effect: the wrap, border and MIP filter stay as the
+    /// data was prepared.
     fn with_lookup(&self, _change: &dyn Fn(&mut TextureOptions)) -> Option<std::sync::Arc<dyn Texture>> {
         None
     }
