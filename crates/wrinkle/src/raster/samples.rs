@@ -315,9 +315,9 @@ impl SamplePattern {
         self.reach
     }
 
-    /// Whether every pixel has the same offsets.
-    pub fn is_same_everywhere(&self) -> bool {
-        self.same.is_some()
+    /// The offsets every pixel shares (fixed point, from the pixel's corner); none where each has its own.
+    pub fn shared_offsets(&self) -> Option<&[[i64; 2]]> {
+        self.same.as_deref()
     }
 
     /// Whether some samples weigh -1.
@@ -417,7 +417,7 @@ impl TileOffsets {
     pub fn fill(&mut self, pattern: &SamplePattern, (x0, y0, width, height): (usize, usize, usize, usize)) {
         let spp = pattern.count();
         (self.x0, self.y0, self.width, self.spp) = (x0, y0, width, spp);
-        self.same = pattern.is_same_everywhere();
+        self.same = pattern.shared_offsets().is_some();
         let pixels = if self.same { 1 } else { width * height };
         self.offsets.resize(pixels * spp, [0, 0]);
         for (p, out) in self.offsets.chunks_exact_mut(spp).enumerate() {

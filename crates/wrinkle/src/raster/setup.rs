@@ -4,6 +4,7 @@
 use super::camera::Camera;
 use super::clip::{clip_planes, clip_polygon, inside_all, ClipVertex};
 use super::exact::{Outline, OUTLINE_MARGIN_PX};
+use super::samples::SamplePattern;
 use super::SUBPIXEL;
 use crate::lanes::{F8, LANES};
 use glam::{Affine3A, Vec2, Vec3, Vec4};
@@ -206,20 +207,41 @@ pub struct TriangleSetup<'a> {
     camera: &'a Camera,
     planes: [Vec4; 5],
     polygon: Vec<ClipVertex>,
-    /// Pixels beyond its own that a pixel's samples reach (a pixel filter wider than the pixel): each
-    /// triangle's box grows by as many, so the pixels whose samples may fall on it are all in it.
-    reach: i64,
+    /// Where a pixel's samples may lie: each triangle's box holds the pixels with a sample in its extent.
+    samples: SampleSpan,
+}
+
+/// Where the samples of a pixel may lie, in 1/SUBPIXEL pixel from its corner, as the least and greatest
+/// offset on each axis; and the offsets themselves where every pixel has the same.
+#[derive(Clone, Debug)]
+struct SampleSpan {
+    /// The samples' extent: the shared offsets', or the pixel and `reach` pixels around it.
+    axes: [[i64; 2]; 2],
+    /// The pixel and `reach` pixels around it.
+    reach: [i64; 2],
+    shared: Option<Vec<[i64; 2]>>,
+}
+
+impl SampleSpan {
+    /// The samples of `pattern`.
+    fn of(pattern: &SamplePattern) -> SampleSpan {
+        let around = pattern.reach() as i64 * SUBPIXEL;
+        let reach = [-around, SUBPIXEL - 1 + around];
+        let extent = |offsets: &[[i64; 2]], d: usize| {
+            offsets.iter().fold([i64::MAX, i64::MIN], |[lo, hi], o| [lo.min(o[d]), hi.max(o[d])])
+        };
+        let shared = pattern.shared_offsets();
+        let axes = shared.map_or([reach; 2], |o| [extent(o, 0), extent(o, 1)]);
+        SampleSpan { axes, reach, shared: shared.map(<[_]>::to_vec) }
+    }
 }
 
 impl<'a> TriangleSetup<'a> {
-    pub fn new(camera: &'a Camera) -> Self {
+    /// The setup for `camera` and the samples of `pattern`: a triangle's box is the pixels with a sample in
+    /// its extent, and triangles that cover none of a few samples are dropped.
+    pub fn new(camera: &'a Camera, pattern: &SamplePattern) -> Self {
         let planes = clip_planes(camera);
-        TriangleSetup { camera, planes, polygon: Vec::with_capacity(9), reach: 0 }
-    }
-
-    /// The setup for samples that reach `pixels` beyond their own pixel.
-    pub fn reaching(self, pixels: usize) -> Self {
-        TriangleSetup { reach: pixels as i64, ..self }
+        TriangleSetup { camera, planes, polygon: Vec::with_capacity(9), samples: SampleSpan::of(pattern) }
     }
 
     /// Carries a mesh's object-space vertices into camera space and onto the screen.
@@ -264,7 +286,7 @@ impl<'a> TriangleSetup<'a> {
     #[cfg(any(test, feature = "internals"))]
     pub fn triangles_of(&mut self, mesh: ProjectedMesh) -> Vec<ScreenTriangle> {
         let mut out = Vec::with_capacity(mesh.triangles.len());
-        self.each_kept(mesh, 0..mesh.triangles.len(), |setup, tri, kept, _| out.push(setup.finish(tri, kept)));
+        self.each_kept(mesh, 0..mesh.triangles.len(), false, |setup, tri, kept, _| out.push(setup.finish(tri, kept)));
         out
     }
 
@@ -272,7 +294,7 @@ impl<'a> TriangleSetup<'a> {
     /// which of the mesh's triangles give any.
     pub fn count_triangles(&mut self, mesh: ProjectedMesh) -> Counted {
         let mut counted = Counted { count: 0, kept: vec![0; mesh.triangles.len().div_ceil(64)] };
-        self.each_kept(mesh, 0..mesh.triangles.len(), |_, _, _, k| {
+        self.each_kept(mesh, 0..mesh.triangles.len(), false, |_, _, _, k| {
             counted.kept[k / 64] |= 1 << (k % 64);
             counted.count += 1;
         });
@@ -290,7 +312,7 @@ impl<'a> TriangleSetup<'a> {
         mut written: impl FnMut(usize, &ScreenTriangle),
     ) {
         let mut n = 0;
-        self.each_kept(mesh, set_bits(&counted.kept), |setup, tri, kept, _| {
+        self.each_kept(mesh, set_bits(&counted.kept), true, |setup, tri, kept, _| {
             written(n, out[n].write(setup.finish(tri, kept)));
             n += 1;
         });
@@ -298,11 +320,13 @@ impl<'a> TriangleSetup<'a> {
     }
 
     /// Calls `visit` with each triangle among `which` (indices into the mesh's triangles) that the setup
-    /// keeps (each piece of one that is clipped), what it keeps of it and its index.
+    /// keeps (each piece of one that is clipped), what it keeps of it and its index. With `counted`, those
+    /// of `which` that need no clipping are known to cover a sample (the count tested them).
     fn each_kept(
         &mut self,
         mesh: ProjectedMesh,
         which: impl Iterator<Item = usize>,
+        counted: bool,
         mut visit: impl FnMut(&Self, [&ProjectedVertex; 3], Kept, usize),
     ) {
         let ProjectedMesh { vertices, triangles, surface, first, cull, outline } = mesh;
@@ -313,7 +337,7 @@ impl<'a> TriangleSetup<'a> {
             // By reference: copies of the vertices, read back at once, stalled the store forwarding.
             let tri = triangles[k].map(|v| &vertices[v as usize]);
             if tri.iter().all(|v| v.inside) {
-                if let Some(kept) = self.keep(tri, id, cull) {
+                if let Some(kept) = self.keep(tri, id, cull, !counted) {
                     visit(self, tri, kept, k);
                 }
             } else {
@@ -321,7 +345,7 @@ impl<'a> TriangleSetup<'a> {
                 for p in 1..poly.len().saturating_sub(1) {
                     let piece = [poly[0], poly[p], poly[p + 1]].map(|c| self.project(c));
                     let piece = [&piece[0], &piece[1], &piece[2]];
-                    if let Some(kept) = self.keep(piece, id, cull) {
+                    if let Some(kept) = self.keep(piece, id, cull, true) {
                         visit(self, piece, kept, k);
                     }
                 }
@@ -330,10 +354,10 @@ impl<'a> TriangleSetup<'a> {
         self.polygon = poly;
     }
 
-    /// Whether the triangle is kept (it covers some area, faces the way `cull` keeps, and its box meets the
-    /// screen), and if so its vertices' order and box.
-    #[inline]
-    fn keep(&self, tri: [&ProjectedVertex; 3], id: TriangleId, cull: Cull) -> Option<Kept> {
+    /// Whether the triangle is kept (it covers some area, faces the way `cull` keeps, its box meets the
+    /// screen, and where `test` it covers a sample), and if so its vertices' order and box.
+    #[inline(always)]
+    fn keep(&self, tri: [&ProjectedVertex; 3], id: TriangleId, cull: Cull, test: bool) -> Option<Kept> {
         let fixed = tri.map(|v| v.fixed);
         let area = edge_at(fixed[0], fixed[1], fixed[2]);
         if area == 0 {
@@ -353,12 +377,30 @@ impl<'a> TriangleSetup<'a> {
         // ones), and the box keeps what lies within the margin of the triangle, which is all the outline needs.
         let pad = if id.outline != Outline::Inside { OUTLINE_MARGIN_PX.ceil() as i64 * SUBPIXEL } else { 0 };
         let (w, h) = (self.camera.width as i64, self.camera.height as i64);
-        let reach = self.reach;
-        let minx = ((fx.iter().map(|p| p[0]).min().unwrap_or(0) - pad).div_euclid(SUBPIXEL) - reach).max(0);
-        let maxx = ((fx.iter().map(|p| p[0]).max().unwrap_or(0) + pad).div_euclid(SUBPIXEL) + reach).min(w - 1);
-        let miny = ((fx.iter().map(|p| p[1]).min().unwrap_or(0) - pad).div_euclid(SUBPIXEL) - reach).max(0);
-        let maxy = ((fx.iter().map(|p| p[1]).max().unwrap_or(0) + pad).div_euclid(SUBPIXEL) + reach).min(h - 1);
-        (minx <= maxx && miny <= maxy).then_some(Kept { order, bbox: [minx, miny, maxx, maxy], id })
+        // The pixels one of whose samples may lie within the triangle's extent on each axis: from the first
+        // whose last sample reaches its least coordinate to the last whose first sample reaches its greatest.
+        // An outline's edges, moved out, reach past its extent at sharp corners: it keeps every pixel that
+        // meets the extent.
+        let span = |d: usize, size: i64| {
+            let [lo, hi] = if pad == 0 { self.samples.axes[d] } else { self.samples.reach };
+            let least = fx.iter().map(|p| p[d]).min().unwrap_or(0) - pad;
+            let most = fx.iter().map(|p| p[d]).max().unwrap_or(0) + pad;
+            ((-(hi - least).div_euclid(SUBPIXEL)).max(0), (most - lo).div_euclid(SUBPIXEL).min(size - 1))
+        };
+        let ((minx, maxx), (miny, maxy)) = (span(0, w), span(1, h));
+        if minx > maxx || miny > maxy {
+            return None;
+        }
+        let bbox = [minx, miny, maxx, maxy];
+        // A triangle of a few samples that covers none of them is dropped: most of a dense mesh's triangles
+        // are smaller than a pixel, and many of those fall between the samples.
+        if let Some(offsets) = self.samples.shared.as_deref().filter(|_| test && pad == 0) {
+            let pixels = (maxx - minx + 1) * (maxy - miny + 1);
+            if pixels * offsets.len() as i64 <= TESTED_IN_SETUP && !covers_a_sample(&fx, bbox, offsets) {
+                return None;
+            }
+        }
+        Some(Kept { order, bbox, id })
     }
 
     /// The kept triangle's edge functions and planes.
@@ -367,17 +409,11 @@ impl<'a> TriangleSetup<'a> {
         // Indexed outright: arrays' `map` with closures was left as calls.
         let v = [tri[order[0]], tri[order[1]], tri[order[2]]];
         let fx = [v[0].fixed, v[1].fixed, v[2].fixed];
-        let edges_at = [(1, 2), (2, 0), (0, 1)];
+        let edges = edge_functions(&fx);
         let (mut slopes, mut offsets) = ([[0i32; 2]; 3], [0i64; 3]);
-        for (e, &(a, b)) in edges_at.iter().enumerate() {
-            let (pa, pb) = (fx[a], fx[b]);
-            let ca = -(pb[1] - pa[1]);
-            let cb = pb[0] - pa[0];
-            // Fill rule: a sample exactly on an edge belongs to the triangle for which (A, B) points "right or
-            // down"; the neighbour across the edge has (-A, -B), so exactly one of the two owns it.
-            let bias = if ca > 0 || (ca == 0 && cb > 0) { 0 } else { -1 };
+        for (e, &[ca, cb, c]) in edges.iter().enumerate() {
             debug_assert!(i32::try_from(ca).is_ok() && i32::try_from(cb).is_ok(), "edge slopes beyond 32 bits");
-            (slopes[e], offsets[e]) = ([ca as i32, cb as i32], bias - (ca * pa[0] + cb * pa[1]));
+            (slopes[e], offsets[e]) = ([ca as i32, cb as i32], c);
             if id.outline != Outline::Inside {
                 // Each edge moved out by the margin: E is the distance in subpixels times |(A, B)|.
                 let margin = OUTLINE_MARGIN_PX as f64 * SUBPIXEL as f64 * ((ca * ca + cb * cb) as f64).sqrt();
@@ -432,6 +468,43 @@ fn set_bits(words: &[u64]) -> impl Iterator<Item = usize> + '_ {
         std::iter::successors(Some(word).filter(|&b| b != 0), |&b| Some(b & (b - 1)).filter(|&b| b != 0))
             .map(move |b| w * 64 + b.trailing_zeros() as usize)
     })
+}
+
+/// The most samples (pixels of its box times samples a pixel) a triangle's setup tests for coverage: more
+/// are left to the rasterizer, which walks them anyway.
+const TESTED_IN_SETUP: i64 = 4;
+
+/// The edge functions E = A x + B y + C of a triangle with positive area (fixed point), E >= 0 inside, with
+/// the fill rule in C: a sample exactly on an edge belongs to the triangle for which (A, B) points "right or
+/// down"; the neighbour across the edge has (-A, -B), so exactly one of the two owns it.
+#[inline(always)]
+fn edge_functions(fx: &[[i64; 2]; 3]) -> [[i64; 3]; 3] {
+    // Indexed outright: arrays' `map` with closures was left as calls.
+    let edge = |pa: [i64; 2], pb: [i64; 2]| {
+        let (ca, cb) = (-(pb[1] - pa[1]), pb[0] - pa[0]);
+        let bias = if ca > 0 || (ca == 0 && cb > 0) { 0 } else { -1 };
+        [ca, cb, bias - (ca * pa[0] + cb * pa[1])]
+    };
+    [edge(fx[1], fx[2]), edge(fx[2], fx[0]), edge(fx[0], fx[1])]
+}
+
+/// Whether the triangle (vertices in fixed point, positive area) covers a sample of the pixels of `bbox`,
+/// each with the same `offsets`: the rasterizer's test (`visibility::cover`) at each.
+#[inline(always)]
+fn covers_a_sample(fx: &[[i64; 2]; 3], [minx, miny, maxx, maxy]: [i64; 4], offsets: &[[i64; 2]]) -> bool {
+    let [e0, e1, e2] = edge_functions(fx);
+    for y in miny..=maxy {
+        for x in minx..=maxx {
+            for o in offsets {
+                let (sx, sy) = (x * SUBPIXEL + o[0], y * SUBPIXEL + o[1]);
+                let at = |e: [i64; 3]| e[0] * sx + e[1] * sy + e[2];
+                if at(e0) | at(e1) | at(e2) >= 0 {
+                    return true;
+                }
+            }
+        }
+    }
+    false
 }
 
 /// The edge function of a-b at p (twice the signed area of a, b, p), in fixed point.

@@ -294,7 +294,7 @@ fn render_view_parts(
         instances.iter().map(|i| scene.materials[i.material].alpha_mode == AlphaMode::Blend).collect();
     let opaque: Vec<bool> = blending.iter().map(|b| !b).collect();
     let binning = Binning { tile_size, surfaces: &opaque };
-    let drawn = Drawn::new(&instances, diced, &camera, pattern.reach(), binning, &mut stats);
+    let drawn = Drawn::new(&instances, diced, &camera, &pattern, binning, &mut stats);
     let bins = &drawn.bins;
     let t = Instant::now();
     let blend_bins =
@@ -579,13 +579,13 @@ impl Drop for Drawn<'_> {
 
 impl<'a> Drawn<'a> {
     /// Tessellates the instances' surfaces for `camera` (or takes their diced or mesh triangles), sets
-    /// every triangle up for samples that reach `reach` pixels past their own and bins those of the
+    /// every triangle up for the samples of `pattern` and bins those of the
     /// surfaces `binning` asks for, timing the stages into `stats`.
     fn new(
         instances: &'a [Instance],
         mut diced: Vec<Option<Mesh>>,
         camera: &Camera,
-        reach: usize,
+        pattern: &SamplePattern,
         binning: Binning,
         stats: &mut Stats,
     ) -> Drawn<'a> {
@@ -617,7 +617,7 @@ impl<'a> Drawn<'a> {
         stats.tessellate_ms += ms(t);
         let t = Instant::now();
         let first_triangles = first_triangles(instances, &meshes);
-        let (triangles, parts) = setup_triangles(camera, reach, instances, &meshes, &first_triangles, &binning);
+        let (triangles, parts) = setup_triangles(camera, pattern, instances, &meshes, &first_triangles, &binning);
         stats.triangles += triangles.len();
         stats.setup_ms += ms(t);
         let t = Instant::now();
@@ -644,14 +644,14 @@ fn first_triangles(instances: &[Instance], meshes: &[Triangles]) -> Vec<u32> {
 /// memory again), each chunk's entries a part of the bins.
 fn setup_triangles(
     camera: &Camera,
-    reach: usize,
+    pattern: &SamplePattern,
     instances: &[Instance],
     meshes: &[Triangles],
     first: &[u32],
     binning: &Binning,
 ) -> (Vec<ScreenTriangle>, Vec<BinPart>) {
     const CHUNK: usize = 8192;
-    let projector = TriangleSetup::new(camera);
+    let projector = TriangleSetup::new(camera, pattern);
     let projected: Vec<Vec<ProjectedVertex>> = instances
         .par_iter()
         .zip(meshes)
@@ -688,7 +688,7 @@ fn setup_triangles(
             outline: outlines[s].as_ref().map(|o| &o[start..end]),
         }
     };
-    let setup = || TriangleSetup::new(camera).reaching(reach);
+    let setup = || TriangleSetup::new(camera, pattern);
     let counts: Vec<Counted> = jobs.par_iter().map(|j| setup().count_triangles(part(j))).collect();
     let total = counts.iter().map(|c| c.count).sum();
     let mut triangles = triangle_buffer(total);
@@ -1470,7 +1470,8 @@ mod tests {
             let surfaces: Vec<bool> = (0..instances.len()).map(|s| s % 3 != 1).collect();
             let diced = instances.iter().map(|_| None).collect();
             let binning = Binning { tile_size, surfaces: &surfaces };
-            let drawn = Drawn::new(&instances, diced, &camera, 0, binning, &mut Stats::default());
+            let drawn =
+                Drawn::new(&instances, diced, &camera, &SamplePattern::centre(), binning, &mut Stats::default());
             assert!(drawn.triangles.len() > 100, "{} triangles", drawn.triangles.len());
             let after = Bins::of(&drawn.triangles, w, h, tile_size, |t| surfaces[t.surface as usize]);
             let (tiles_x, tiles_y) = (after.tiles_x, after.tiles_y);

@@ -167,9 +167,9 @@ fn depth_view(
     let mut seen = placed_for(&camera);
     let diced = displace::displace(&mut seen, &scene.materials, &camera)?;
     let binning = Binning { tile_size: TILE, surfaces: casting };
-    let drawn = Drawn::new(&seen, diced, &camera, 0, binning, &mut Default::default());
-    let bins = &drawn.bins;
     let pattern = SamplePattern::centre();
+    let drawn = Drawn::new(&seen, diced, &camera, &pattern, binning, &mut Default::default());
+    let bins = &drawn.bins;
     // A parallax crossing's depth is the eye's, not the light's: shadows see the surface itself.
     let not_replacing = vec![false; seen.len()];
     let job = TileJob {

@@ -105,7 +105,7 @@ fn stratified(spp: usize) -> SamplePattern {
 /// (`(y * w + x) * spp + s`), through the rasterizer's own coverage function over the whole screen.
 fn coverage(camera: &Camera, mesh: &Mesh, object_to_world: Affine3A, cull: bool, pattern: &SamplePattern) -> Vec<u16> {
     let (w, h, spp) = (camera.width as usize, camera.height as usize, pattern.count());
-    let mut setup = TriangleSetup::new(camera).reaching(pattern.reach());
+    let mut setup = TriangleSetup::new(camera, pattern);
     let vertices =
         setup.project_vertices(&mesh.positions, Some(&mesh.uvs), &(camera.world_to_camera * object_to_world));
     let cull = if cull { Cull::FacingAway { mirrored: false } } else { Cull::Nothing };
