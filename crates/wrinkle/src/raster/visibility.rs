@@ -466,6 +466,21 @@ mod tests {
     use crate::raster::{Camera, Cull, Projection, TriangleSetup};
     use glam::{Affine3A, Vec3};
 
+    /// The triangles (object-space corners, two-sided) set up for `camera` and the samples of `pattern`.
+    fn set_up(
+        camera: &Camera,
+        pattern: &SamplePattern,
+        positions: &[Vec3],
+        triangles: &[[u32; 3]],
+        object_to_camera: &Affine3A,
+    ) -> Vec<ScreenTriangle> {
+        let mut setup = TriangleSetup::new(camera, pattern);
+        let vertices = setup.project_vertices(positions, None, object_to_camera);
+        let cull = Cull::Nothing;
+        let mesh = ProjectedMesh { vertices: &vertices, triangles, surface: 0, first: 0, cull, outline: None };
+        setup.triangles_of(mesh)
+    }
+
     /// Binning in parallel chunks lists every tile's triangles as one pass in submission order does, `keep`
     /// included: 200,000 boxes of every size, a third of them left out.
     #[test]
@@ -566,19 +581,8 @@ mod tests {
             let pattern = SamplePattern::new(spp, Sampler::Stratified, filter).unwrap();
             let whole = SamplePattern::new(spp, Sampler::Sobol, filter).unwrap();
             assert!(pattern.shared_offsets().is_some() && whole.shared_offsets().is_none());
-            let set_up = |samples: &SamplePattern| {
-                let mut setup = TriangleSetup::new(&camera, samples);
-                let vertices = setup.project_vertices(&positions, None, &Affine3A::from_translation(-5.0 * Vec3::Z));
-                let mesh = ProjectedMesh {
-                    vertices: &vertices,
-                    triangles: &triangles,
-                    surface: 0,
-                    first: 0,
-                    cull: Cull::Nothing,
-                    outline: None,
-                };
-                setup.triangles_of(mesh)
-            };
+            let to_camera = Affine3A::from_translation(-5.0 * Vec3::Z);
+            let set_up = |samples: &SamplePattern| set_up(&camera, samples, &positions, &triangles, &to_camera);
             let seen = |tris: &[ScreenTriangle]| {
                 let mut vis = VisBuffer::new(w, spp);
                 vis.render_tile(&Bins::new(tris, w, h, w), (0, 0), (w, h), tris, &pattern);
@@ -622,17 +626,7 @@ mod tests {
             (8, Sampler::Sobol, mitchell),
         ] {
             let pattern = SamplePattern::new(spp, sampler, filter).unwrap();
-            let mut setup = TriangleSetup::new(&camera, &pattern);
-            let vertices = setup.project_vertices(&positions, None, &Affine3A::IDENTITY);
-            let mesh = ProjectedMesh {
-                vertices: &vertices,
-                triangles: &triangles,
-                surface: 0,
-                first: 0,
-                cull: Cull::Nothing,
-                outline: None,
-            };
-            let tris = setup.triangles_of(mesh);
+            let tris = set_up(&camera, &pattern, &positions, &triangles, &Affine3A::IDENTITY);
             let bins = Bins::new(&tris, 64, 48, 64);
             let peeled = |one_by_one: bool| {
                 let mut vis = VisBuffer::new(64, spp);

@@ -579,8 +579,8 @@ impl Drop for Drawn<'_> {
 
 impl<'a> Drawn<'a> {
     /// Tessellates the instances' surfaces for `camera` (or takes their diced or mesh triangles), sets
-    /// every triangle up for the samples of `pattern` and bins those of the
-    /// surfaces `binning` asks for, timing the stages into `stats`.
+    /// every triangle up for the samples of `pattern` and bins those of the surfaces `binning` asks for,
+    /// timing the stages into `stats`.
     fn new(
         instances: &'a [Instance],
         mut diced: Vec<Option<Mesh>>,
