@@ -208,23 +208,23 @@ pub struct TriangleSetup<'a> {
     planes: [Vec4; 5],
     polygon: Vec<ClipVertex>,
     /// Where a pixel's samples may lie: each triangle's box holds the pixels with a sample in its extent.
-    samples: SampleSpan,
+    samples: SampleSpan<'a>,
 }
 
 /// Where the samples of a pixel may lie, in 1/SUBPIXEL pixel from its corner, as the least and greatest
 /// offset on each axis; and the offsets themselves where every pixel has the same.
 #[derive(Clone, Debug)]
-struct SampleSpan {
+struct SampleSpan<'a> {
     /// The samples' extent: the shared offsets', or the pixel and `reach` pixels around it.
     axes: [[i64; 2]; 2],
     /// The pixel and `reach` pixels around it.
     reach: [i64; 2],
-    shared: Option<Vec<[i64; 2]>>,
+    shared: Option<&'a [[i64; 2]]>,
 }
 
-impl SampleSpan {
+impl<'a> SampleSpan<'a> {
     /// The samples of `pattern`.
-    fn of(pattern: &SamplePattern) -> SampleSpan {
+    fn of(pattern: &'a SamplePattern) -> SampleSpan<'a> {
         let around = pattern.reach() as i64 * SUBPIXEL;
         let reach = [-around, SUBPIXEL - 1 + around];
         let extent = |offsets: &[[i64; 2]], d: usize| {
@@ -232,14 +232,14 @@ impl SampleSpan {
         };
         let shared = pattern.shared_offsets();
         let axes = shared.map_or([reach; 2], |o| [extent(o, 0), extent(o, 1)]);
-        SampleSpan { axes, reach, shared: shared.map(<[_]>::to_vec) }
+        SampleSpan { axes, reach, shared }
     }
 }
 
 impl<'a> TriangleSetup<'a> {
     /// The setup for `camera` and the samples of `pattern`: a triangle's box is the pixels with a sample in
     /// its extent, and triangles that cover none of a few samples are dropped.
-    pub fn new(camera: &'a Camera, pattern: &SamplePattern) -> Self {
+    pub fn new(camera: &'a Camera, pattern: &'a SamplePattern) -> Self {
         let planes = clip_planes(camera);
         TriangleSetup { camera, planes, polygon: Vec::with_capacity(9), samples: SampleSpan::of(pattern) }
     }
@@ -394,7 +394,7 @@ impl<'a> TriangleSetup<'a> {
         let bbox = [minx, miny, maxx, maxy];
         // A triangle of a few samples that covers none of them is dropped: most of a dense mesh's triangles
         // are smaller than a pixel, and many of those fall between the samples.
-        if let Some(offsets) = self.samples.shared.as_deref().filter(|_| test && pad == 0) {
+        if let Some(offsets) = self.samples.shared.filter(|_| test && pad == 0) {
             let pixels = (maxx - minx + 1) * (maxy - miny + 1);
             if pixels * offsets.len() as i64 <= TESTED_IN_SETUP && !covers_a_sample(&fx, bbox, offsets) {
                 return None;
@@ -488,17 +488,25 @@ fn edge_functions(fx: &[[i64; 2]; 3]) -> [[i64; 3]; 3] {
     [edge(fx[1], fx[2]), edge(fx[2], fx[0]), edge(fx[0], fx[1])]
 }
 
+/// Whether the triangle of `edges` (`edge_functions`) covers the sample at `offset` (fixed point) in pixel
+/// (x, y): what the rasterizer's walk over the pixels (`visibility::cover`) finds there.
+#[inline(always)]
+pub fn covers_sample(edges: &[[i64; 3]; 3], (x, y): (i64, i64), offset: [i64; 2]) -> bool {
+    let (sx, sy) = (x * SUBPIXEL + offset[0], y * SUBPIXEL + offset[1]);
+    let at = |e: &[i64; 3]| e[0] * sx + e[1] * sy + e[2];
+    at(&edges[0]) | at(&edges[1]) | at(&edges[2]) >= 0
+}
+
 /// Whether the triangle (vertices in fixed point, positive area) covers a sample of the pixels of `bbox`,
-/// each with the same `offsets`: the rasterizer's test (`visibility::cover`) at each.
+/// each with the same `offsets`.
 #[inline(always)]
 fn covers_a_sample(fx: &[[i64; 2]; 3], [minx, miny, maxx, maxy]: [i64; 4], offsets: &[[i64; 2]]) -> bool {
-    let [e0, e1, e2] = edge_functions(fx);
+    let edges = edge_functions(fx);
+    // Loops, not nested `any`: their closures were left as calls in the setup's hot loop.
     for y in miny..=maxy {
         for x in minx..=maxx {
-            for o in offsets {
-                let (sx, sy) = (x * SUBPIXEL + o[0], y * SUBPIXEL + o[1]);
-                let at = |e: [i64; 3]| e[0] * sx + e[1] * sy + e[2];
-                if at(e0) | at(e1) | at(e2) >= 0 {
+            for &o in offsets {
+                if covers_sample(&edges, (x, y), o) {
                     return true;
                 }
             }

@@ -4,7 +4,7 @@
 
 use super::exact::Outline;
 use super::samples::{SamplePattern, TileOffsets};
-use super::setup::ScreenTriangle;
+use super::setup::{covers_sample, ScreenTriangle};
 use super::SUBPIXEL;
 use crate::lanes::prefetch;
 use glam::Vec2;
@@ -304,13 +304,7 @@ impl VisBuffer {
             if x < bx0 || x > bx1 || y < by0 || y > by1 {
                 continue;
             }
-            // The edge functions as `cover` evaluates them, so both paths agree to the bit.
-            let inside = (0..3).all(|e| {
-                let [a, b, c] = tri.edges()[e];
-                let at_pixel = a * (x as i64 * SUBPIXEL) + b * (y as i64 * SUBPIXEL) + c;
-                at_pixel + a * offset[0] + b * offset[1] >= 0
-            });
-            if !inside {
+            if !covers_sample(&tri.edges(), (x as i64, y as i64), offset) {
                 continue;
             }
             let d = tri.depth.at(x as f32 + (ox - tri.origin.x), y as f32 + (oy - tri.origin.y));
@@ -493,19 +487,12 @@ mod tests {
             640,
             480,
         );
-        let mut setup = TriangleSetup::new(&camera, &SamplePattern::centre());
         // Camera space: in front of the eye, along -z.
         let positions = [Vec3::new(-1.0, -1.0, -5.0), Vec3::new(1.0, -1.0, -5.0), Vec3::new(0.0, 1.0, -5.0)];
-        let vertices = setup.project_vertices(&positions, None, &Affine3A::IDENTITY);
-        let mesh = ProjectedMesh {
-            vertices: &vertices,
-            triangles: &[[0, 1, 2]],
-            surface: 0,
-            first: 0,
-            cull: Cull::Nothing,
-            outline: None,
-        };
-        let one = setup.triangles_of(mesh).pop().expect("a triangle on screen");
+        let centre = SamplePattern::centre();
+        let one = set_up(&camera, &centre, &positions, &[[0, 1, 2]], &Affine3A::IDENTITY)
+            .pop()
+            .expect("a triangle on screen");
         let (w, h, tile) = (640usize, 480usize, 64usize);
         let triangles: Vec<ScreenTriangle> = (0..200_000u32)
             .map(|k| {
