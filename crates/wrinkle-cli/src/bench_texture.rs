@@ -35,6 +35,9 @@ pub struct BenchTextureArgs {
     /// Worker threads for the all-cores figures and the pyramid (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Lookups per `lookup_batch` call in the batch figures (16: OpenImageIO's batch width).
+    #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub batch: u32,
 }
 
 /// The lookups of one run: where and how large.
@@ -125,12 +128,13 @@ fn rate(tex: &FilteredTexture, set: &Lookups, parallel: bool, rounds: usize) -> 
     timed(set, parallel, rounds, run)
 }
 
-/// The same through `FilteredTexture::lookup_batch`: packets of eight, as the renderer's packet shader
-/// looks textures up.
-fn rate8(tex: &FilteredTexture, set: &Lookups, parallel: bool, rounds: usize) -> (f64, Option<f64>) {
+/// The same through `FilteredTexture::lookup_batch`, `batch` lookups a call.
+fn rate_batch(tex: &FilteredTexture, set: &Lookups, batch: usize, parallel: bool, rounds: usize) -> (f64, Option<f64>) {
     let run = |st: &[Vec2], fp: &[Footprint]| {
         let mut out = [Vec4::ZERO; CHUNK];
-        tex.lookup_batch(st, fp, &mut out[..st.len()]);
+        for ((st, fp), out) in st.chunks(batch).zip(fp.chunks(batch)).zip(out.chunks_mut(batch)) {
+            tex.lookup_batch(st, fp, out);
+        }
         out.iter().sum()
     };
     timed(set, parallel, rounds, run)
@@ -255,11 +259,12 @@ pub fn run(args: &BenchTextureArgs) -> Result<()> {
                 let (one, one_cpu) = rate(&tex, &set, false, args.rounds);
                 let (all, _) = rate(&tex, &set, true, args.rounds);
                 let cpu = one_cpu.map_or(String::new(), |c| format!(" mlookups_per_cpu_s_1thread={c:.2}"));
-                let (one8, one8_cpu) = rate8(&tex, &set, false, args.rounds);
-                let (all8, _) = rate8(&tex, &set, true, args.rounds);
-                let cpu8 = one8_cpu.map_or(String::new(), |c| format!(" lanes8_per_cpu_s_1thread={c:.2}"));
+                let batch = args.batch as usize;
+                let (one_b, one_b_cpu) = rate_batch(&tex, &set, batch, false, args.rounds);
+                let (all_b, _) = rate_batch(&tex, &set, batch, true, args.rounds);
+                let cpu_b = one_b_cpu.map_or(String::new(), |c| format!(" batch_per_cpu_s_1thread={c:.2}"));
                 println!(
-                    "filter={} footprint={shape} order={order} mlookups_per_s_1thread={one:.2}{cpu} mlookups_per_s_{threads}threads={all:.2} lanes8_1thread={one8:.2}{cpu8} lanes8_{threads}threads={all8:.2}",
+                    "filter={} footprint={shape} order={order} mlookups_per_s_1thread={one:.2}{cpu} mlookups_per_s_{threads}threads={all:.2} batch={batch} batch_1thread={one_b:.2}{cpu_b} batch_{threads}threads={all_b:.2}",
                     filter.name()
                 );
             }

@@ -2,7 +2,7 @@
 
 use crate::arrays::{flatten, output, shape, slice};
 use crate::errors::invalid;
-use glam::Vec4;
+use glam::{Vec2, Vec4};
 use numpy::{PyArrayDyn, PyReadonlyArrayDyn};
 use pyo3::prelude::*;
 use rayon::prelude::*;
@@ -125,16 +125,23 @@ impl Texture {
             ),
         };
         let texture = texture.as_ref().unwrap_or(&self.texture);
-        // Lookups `first..` into `out` (4 values each); false where a value is NaN or infinite.
+        // Lookups `first..` into `out` (4 values each), as one batch (whose lookups overlap their cache
+        // misses); false where a value is NaN or infinite.
         let fill = |first: usize, out: &mut [f32]| -> bool {
-            let mut ok = true;
-            for (k, o) in out.chunks_exact_mut(4).enumerate() {
-                let i = first + k;
-                let (s, t) = (uv[2 * i], uv[2 * i + 1]);
-                let f = fp.map_or([0.0; 4], |f| [f[4 * i], f[4 * i + 1], f[4 * i + 2], f[4 * i + 3]]);
-                ok &= s.is_finite() && t.is_finite() && f.iter().all(|v| v.is_finite());
-                let footprint = Footprint { dudx: f[0], dvdx: f[1], dudy: f[2], dvdy: f[3] };
-                o.copy_from_slice(&texture.lookup(s, t, &footprint).to_array());
+            let count = out.len() / 4;
+            let st: Vec<Vec2> = (first..first + count).map(|i| Vec2::new(uv[2 * i], uv[2 * i + 1])).collect();
+            let footprints: Vec<Footprint> = (first..first + count)
+                .map(|i| {
+                    let f = fp.map_or([0.0; 4], |f| [f[4 * i], f[4 * i + 1], f[4 * i + 2], f[4 * i + 3]]);
+                    Footprint { dudx: f[0], dvdx: f[1], dudy: f[2], dvdy: f[3] }
+                })
+                .collect();
+            let ok = st.iter().all(|p| p.is_finite())
+                && footprints.iter().all(|f| [f.dudx, f.dvdx, f.dudy, f.dvdy].iter().all(|v| v.is_finite()));
+            let mut values = vec![Vec4::ZERO; count];
+            texture.lookup_batch(&st, &footprints, &mut values);
+            for (o, v) in out.chunks_exact_mut(4).zip(&values) {
+                o.copy_from_slice(&v.to_array());
             }
             ok
         };

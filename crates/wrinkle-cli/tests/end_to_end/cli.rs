@@ -812,7 +812,7 @@ fn bench_texture_short_runs_report_plausible_rates() {
     assert_eq!(lines.len(), 4, "{}", run.stdout);
     for line in lines {
         for (wall, cpu) in
-            [("mlookups_per_s_1thread", "mlookups_per_cpu_s_1thread"), ("lanes8_1thread", "lanes8_per_cpu_s_1thread")]
+            [("mlookups_per_s_1thread", "mlookups_per_cpu_s_1thread"), ("batch_1thread", "batch_per_cpu_s_1thread")]
         {
             let (wall, cpu) = (figure(line, wall), figure(line, cpu));
             assert!(wall > 0.0 && cpu >= 0.95 * wall && cpu < 150.0, "{line}");

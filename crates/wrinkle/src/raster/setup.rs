@@ -341,17 +341,32 @@ impl<'a> TriangleSetup<'a> {
                     visit(self, tri, kept, k);
                 }
             } else {
-                clip_polygon(&self.planes, &tri.map(|v| v.clip), &mut poly);
-                for p in 1..poly.len().saturating_sub(1) {
-                    let piece = [poly[0], poly[p], poly[p + 1]].map(|c| self.project(c));
-                    let piece = [&piece[0], &piece[1], &piece[2]];
+                self.each_clipped_piece(tri, &mut poly, |piece| {
                     if let Some(kept) = self.keep(piece, id, cull, true) {
                         visit(self, piece, kept, k);
                     }
-                }
+                });
             }
         }
         self.polygon = poly;
+    }
+
+    /// Calls `visit` with each piece of the triangle clipped to the frustum. Out of line: few triangles
+    /// cross the frustum, and inlined into the loop over all of them, this code changed how that loop was
+    /// compiled, and its speed, whenever unrelated code moved.
+    #[cold]
+    #[inline(never)]
+    fn each_clipped_piece(
+        &self,
+        tri: [&ProjectedVertex; 3],
+        poly: &mut Vec<ClipVertex>,
+        mut visit: impl FnMut([&ProjectedVertex; 3]),
+    ) {
+        clip_polygon(&self.planes, &tri.map(|v| v.clip), poly);
+        for p in 1..poly.len().saturating_sub(1) {
+            let piece = [poly[0], poly[p], poly[p + 1]].map(|c| self.project(c));
+            visit([&piece[0], &piece[1], &piece[2]]);
+        }
     }
 
     /// Whether the triangle is kept (it covers some area, faces the way `cull` keeps, its box meets the

@@ -7,7 +7,7 @@ use super::mip::{level_pair, trilinear};
 use super::reconstruct::Addressing;
 use super::rgba8::Rgba8Plane;
 use super::texel::TexelSource;
-use super::trilinear8::{bilinear8_on, lerp8, OneLevel};
+use super::trilinear8::{bilinear8_on, lerp8, BilinearTaps8, OneLevel};
 use super::wrap::Wrap;
 use super::Footprint;
 use crate::lanes::{lane_index, sum_lanes, CmpLt, F8, LANES};
@@ -79,37 +79,76 @@ fn probe_by_probe<S: TexelSource>(
 /// The same filter on a repeating 8-bit pyramid, its probes eight at a time on lanes: for 8:1 footprints
 /// all eight probes of a lookup are one lane lookup per level.
 pub fn sample_rgba8_repeating(levels: &[Rgba8Plane], s: f32, t: f32, fp: &Footprint, max_aniso: f32) -> Vec4 {
-    let probes = Probes::of_footprint(fp, levels[0].width(), levels[0].height(), max_aniso);
-    probes_on_lanes(levels, s, t, &probes)
+    AnisoLookup::at(levels, s, t, fp, max_aniso).sum(levels)
 }
 
-/// The mean of the probes, on lanes where there are enough of them to fill lanes.
-fn probes_on_lanes(levels: &[Rgba8Plane], s: f32, t: f32, probes: &Probes) -> Vec4 {
-    // A lane lookup costs about three scalar probes.
-    if probes.count <= 3 {
-        let addr = Addressing { wrap: [Wrap::Repeat; 2], border: Vec4::ZERO };
-        return probe_by_probe(levels, &addr, s, t, probes);
+/// One anisotropic lookup on a repeating 8-bit pyramid, its probes placed but not yet read: a batch of
+/// lookups places many before it reads any, asking the cache for their texels first (`prefetch`), so that
+/// the misses of a texture larger than the caches overlap.
+pub struct AnisoLookup {
+    s: f32,
+    t: f32,
+    probes: Probes,
+}
+
+impl AnisoLookup {
+    #[inline]
+    pub fn at(levels: &[Rgba8Plane], s: f32, t: f32, fp: &Footprint, max_aniso: f32) -> Self {
+        AnisoLookup { s, t, probes: Probes::of_footprint(fp, levels[0].width(), levels[0].height(), max_aniso) }
     }
-    let (fine, coarse, frac) = level_pair(probes.level, levels.len());
-    let (fine, coarse) = (OneLevel(&levels[fine]), OneLevel(&levels[coarse]));
-    let (s, t) = (F8::splat(s), F8::splat(t));
-    let mut sum = [F8::ZERO; 4];
-    for chunk in (0..probes.count).step_by(LANES) {
+
+    /// Asks the cache for the lines of every probe's taps on both levels.
+    pub fn prefetch(&self, levels: &[Rgba8Plane]) {
+        let probes = &self.probes;
+        let (fine, coarse, frac) = level_pair(probes.level, levels.len());
+        for chunk in (0..probes.count).step_by(LANES) {
+            let (ps, pt) = self.positions(chunk);
+            let lanes = probes.count - chunk;
+            for (level, used) in [(fine, true), (coarse, frac > 0.0)] {
+                if used {
+                    let plane = &levels[level];
+                    BilinearTaps8::at(&OneLevel(plane), ps, pt).prefetch(plane, lanes);
+                }
+            }
+        }
+    }
+
+    /// The filtered value: the mean of the probes, on lanes where there are enough of them to fill lanes.
+    pub fn sum(&self, levels: &[Rgba8Plane]) -> Vec4 {
+        let probes = &self.probes;
+        // A lane lookup costs about three scalar probes.
+        if probes.count <= 3 {
+            let addr = Addressing { wrap: [Wrap::Repeat; 2], border: Vec4::ZERO };
+            return probe_by_probe(levels, &addr, self.s, self.t, probes);
+        }
+        let (fine, coarse, frac) = level_pair(probes.level, levels.len());
+        let (fine, coarse) = (OneLevel(&levels[fine]), OneLevel(&levels[coarse]));
+        let mut sum = [F8::ZERO; 4];
+        for chunk in (0..probes.count).step_by(LANES) {
+            let (ps, pt) = self.positions(chunk);
+            let mut value = bilinear8_on(&fine, ps, pt);
+            if frac > 0.0 {
+                value = lerp8(value, bilinear8_on(&coarse, ps, pt), F8::splat(frac));
+            }
+            // Lanes past the last probe add nothing.
+            let live = (lane_index() + F8::splat(chunk as f32)).cmp_lt(F8::splat(probes.count as f32));
+            for c in 0..4 {
+                sum[c] += live.blend(value[c], F8::ZERO);
+            }
+        }
+        Vec4::from(sum_lanes(sum)) * (1.0 / probes.count as f32)
+    }
+
+    /// Where probes `chunk..chunk + 8` sit, in [0, 1).
+    #[inline]
+    fn positions(&self, chunk: usize) -> (F8, F8) {
+        let probes = &self.probes;
         let k = lane_index() + F8::splat(chunk as f32);
         let off = (k + F8::splat(0.5)) * F8::splat(1.0 / probes.count as f32) - F8::splat(0.5);
-        let (ps, pt) = (s + off * F8::splat(probes.axis.x), t + off * F8::splat(probes.axis.y));
-        let (ps, pt) = (ps - ps.floor(), pt - pt.floor());
-        let mut value = bilinear8_on(&fine, ps, pt);
-        if frac > 0.0 {
-            value = lerp8(value, bilinear8_on(&coarse, ps, pt), F8::splat(frac));
-        }
-        // Lanes past the last probe add nothing.
-        let live = k.cmp_lt(F8::splat(probes.count as f32));
-        for c in 0..4 {
-            sum[c] += live.blend(value[c], F8::ZERO);
-        }
+        let (ps, pt) =
+            (F8::splat(self.s) + off * F8::splat(probes.axis.x), F8::splat(self.t) + off * F8::splat(probes.axis.y));
+        (ps - ps.floor(), pt - pt.floor())
     }
-    Vec4::from(sum_lanes(sum)) * (1.0 / probes.count as f32)
 }
 
 #[cfg(test)]

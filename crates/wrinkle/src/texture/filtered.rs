@@ -2,17 +2,18 @@
 //! fetch, 16-bit and float sources as linear f32), wrap modes per axis, a border colour, and one of the filters of
 //! [`Filter`] for every lookup.
 
+use super::aniso::AnisoLookup;
 use super::filter::{Filter, FilterOptions, Filterable};
 use super::mip::{build_rgba_levels, pyramid_of, LevelRule, MipFilter};
 use super::rgba8::Rgba8Plane;
 use super::texel::{Plane, TexelSource};
-use super::trilinear8::{trilinear8, trilinear_taps8};
+use super::trilinear8::{trilinear8, trilinear_taps8, TrilinearTaps};
 use super::wrap::Wrap;
-use super::{aniso, lane_by_lane, Footprint, Footprint8, LookupContext, LookupContext8, SurfaceLanes, Texture};
+use super::{aniso, lane_by_lane, Footprint, LookupContext, LookupContext8, Texture};
 use crate::image::color::SrgbEncoder;
 use crate::image::{Image, ImageRef};
-use crate::lanes::{F8, LANES, V3};
-use glam::{Vec2, Vec3, Vec4};
+use crate::lanes::F8;
+use glam::{Vec2, Vec4};
 use std::sync::Arc;
 
 /// How a texture is prepared (once) and looked up.
@@ -72,6 +73,31 @@ impl Path {
             Filter::Trilinear if f.level_rule == LevelRule::Longest => Path::Trilinear8,
             Filter::Aniso => Path::Aniso8,
             _ => Path::General,
+        }
+    }
+}
+
+/// How many lookups ahead a batch works out trilinear and anisotropic lookups (`pipelined`): enough that
+/// a lookup's texels arrive from memory before it is read, few enough that they are still in L1 then
+/// (measured on Zen 4, BENCHMARKS.md).
+const TRILINEAR_AHEAD: usize = 16;
+const ANISO_AHEAD: usize = 4;
+
+/// The lookups of a batch in runs of `AHEAD`: each run's lookups are all worked out (`place`, which asks
+/// the cache for their texels) before any of them is read (`read`).
+fn pipelined<const AHEAD: usize, P>(
+    st: &[Vec2],
+    footprints: &[Footprint],
+    out: &mut [Vec4],
+    place: impl Fn(Vec2, &Footprint) -> P,
+    read: impl Fn(&P) -> Vec4,
+) {
+    let mut placed = Vec::with_capacity(AHEAD.min(st.len()));
+    for ((st, footprints), out) in st.chunks(AHEAD).zip(footprints.chunks(AHEAD)).zip(out.chunks_mut(AHEAD)) {
+        placed.clear();
+        placed.extend(st.iter().zip(footprints).map(|(&p, f)| place(p, f)));
+        for (o, p) in out.iter_mut().zip(&placed) {
+            *o = read(p);
         }
     }
 }
@@ -192,27 +218,37 @@ impl FilteredTexture {
         }
     }
 
-    /// `lookup` at every (s, t) of `st` with its footprint in `footprints`, into `out`, in packets of
-    /// eight as the renderer's packet shader looks textures up (the packet trilinear filter agrees with
-    /// `lookup` to 2e-5: it sums in another order). All three slices are of one length.
+    /// `lookup` at every (s, t) of `st` with its footprint in `footprints`, into `out`: the same values. The
+    /// 8-bit repeating paths work each lookup out some lookups before they read its texels, and ask the
+    /// cache for them then (`pipelined`): on a texture larger than the caches, the misses of many lookups
+    /// overlap. All three slices are of one length.
     pub fn lookup_batch(&self, st: &[Vec2], footprints: &[Footprint], out: &mut [Vec4]) {
         assert!(st.len() == footprints.len() && st.len() == out.len(), "lookup_batch: slices of different lengths");
-        let (st8, st_rest) = st.as_chunks::<LANES>();
-        let (fp8, fp_rest) = footprints.as_chunks::<LANES>();
-        let (out8, out_rest) = out.as_chunks_mut::<LANES>();
-        for ((st, fp), out) in st8.iter().zip(fp8).zip(out8) {
-            let fp = Footprint8::from_lanes(fp);
-            let (s, t) = (F8::new(st.map(|p| p.x)), F8::new(st.map(|p| p.y)));
-            let zero = V3::splat(Vec3::ZERO);
-            let surface = SurfaceLanes::new(zero, zero, zero, &fp, 0, [0; LANES]);
-            let rgba = self.eval8(&LookupContext8 { surface: &surface, u: s, v: t, footprint: fp });
-            let [r, g, b, a] = rgba.map(|c| c.to_array());
-            for (i, o) in out.iter_mut().enumerate() {
-                *o = Vec4::new(r[i], g[i], b[i], a[i]);
+        let scale = self.footprint_scale;
+        match (self.path, &*self.data) {
+            (Path::Trilinear8, Levels::Bytes(d)) => {
+                let levels = d.levels();
+                let place = |p: Vec2, f: &Footprint| {
+                    let taps = TrilinearTaps::at(levels, p.x, p.y, &f.scaled(scale));
+                    taps.prefetch();
+                    taps
+                };
+                pipelined::<TRILINEAR_AHEAD, _>(st, footprints, out, place, TrilinearTaps::sum);
             }
-        }
-        for ((p, f), o) in st_rest.iter().zip(fp_rest).zip(out_rest) {
-            *o = self.lookup(p.x, p.y, f);
+            (Path::Aniso8, Levels::Bytes(d)) => {
+                let (levels, max_aniso) = (d.levels(), self.options.filter.max_aniso);
+                let place = |p: Vec2, f: &Footprint| {
+                    let lookup = AnisoLookup::at(levels, p.x, p.y, &f.scaled(scale), max_aniso);
+                    lookup.prefetch(levels);
+                    lookup
+                };
+                pipelined::<ANISO_AHEAD, _>(st, footprints, out, place, |lookup| lookup.sum(levels));
+            }
+            _ => {
+                for ((p, f), o) in st.iter().zip(footprints).zip(out) {
+                    *o = self.lookup(p.x, p.y, f);
+                }
+            }
         }
     }
 

@@ -188,6 +188,13 @@ impl Rgba8Plane {
         (((k >> shift) * stride) << (2 * shift)) + ((k & mask) << (is_row & I8::splat(shift)))
     }
 
+    /// Asks the cache for the line of the texel at storage index `index` (see `row_part8`); an index outside
+    /// asks nothing.
+    #[inline]
+    pub fn prefetch_index(&self, index: i32) {
+        crate::lanes::prefetch(self.texels(), index as usize);
+    }
+
     /// The texel at storage index `index` (see `row_part8`) as one word: R in the low byte, A in the high.
     #[inline]
     pub fn word(&self, index: usize) -> u32 {

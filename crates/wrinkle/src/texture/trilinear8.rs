@@ -16,6 +16,7 @@ pub type Rgba8 = [F8; 4];
 
 /// The trilinear lookup at (s, t) (one period per unit, repeating) with footprints `fp` in the same units,
 /// the level chosen by the longest pixel axis (Williams 1983).
+#[inline]
 pub fn trilinear8(levels: &[Rgba8Plane], s: F8, t: F8, fp: &Footprint8) -> Rgba8 {
     let (w, h) = (levels[0].width() as f32, levels[0].height() as f32);
     let (ux, vx) = (fp.dudx * F8::splat(w), fp.dvdx * F8::splat(h));
@@ -38,35 +39,73 @@ pub fn trilinear8(levels: &[Rgba8Plane], s: F8, t: F8, fp: &Footprint8) -> Rgba8
 }
 
 /// One trilinear lookup at (s, t) (one period per unit, repeating), the level chosen by the longest pixel
-/// axis. The finer level's four bilinear taps sit on lanes 0-3, the coarser level's on lanes 4-7, each
-/// weighted by its share of the result; one pair of gathers reads all eight texels. The tap positions are
-/// worked out per axis first, on lanes (x, x + 1, y, y + 1) of each level, then paired up by two shuffles:
-/// half the arithmetic of working on the taps, so more lookups' cache misses overlap.
+/// axis: `TrilinearTaps::at(...).sum()`.
+#[inline]
 pub fn trilinear_taps8(levels: &[Rgba8Plane], s: f32, t: f32, fp: &Footprint) -> Vec4 {
-    let (fine, coarse, frac) = level_pair(fp.mip_level(levels[0].width(), levels[0].height()), levels.len());
-    let (fine, coarse) = (&levels[fine], &levels[coarse]);
-    let (fw, fh, cw, ch) = (fine.width as i32, fine.height as i32, coarse.width as i32, coarse.height as i32);
-    let size = I8::new([fw, fw, fh, fh, cw, cw, ch, ch]);
-    let (s, t) = (s - s.floor(), t - t.floor());
-    // Each lane's position along its axis, in texels of its level, and the texel column or row it reads:
-    // the second tap of each axis is one texel on.
-    let pos = F8::new([s, s, t, t, s, s, t, t]) * size.round_float() - F8::splat(0.5);
-    let floor = pos.floor();
-    let next = I8::new([0, 1, 0, 1, 0, 1, 0, 1]);
-    let texel = wrapped(floor.fast_trunc_int() + next, size);
-    let (fb, cb) = (fine.blocks_per_row() as i32, coarse.blocks_per_row() as i32);
-    let blocks = I8::new([0, 0, fb, fb, 0, 0, cb, cb]);
-    let part = Rgba8Plane::parts8(texel, blocks, I8::new([0, 0, -1, -1, 0, 0, -1, -1]));
-    // Tap k of a level is texel (x + (k & 1), y + (k >> 1)): its storage index is a column part plus a row part.
-    let (columns, rows) = (I8::new([0, 1, 0, 1, 4, 5, 4, 5]), I8::new([2, 2, 3, 3, 6, 6, 7, 7]));
-    let index = permute(part, columns) + permute(part, rows);
-    let texels = Rgba8Plane::gather_split8(fine, coarse, index);
-    // The tent's weights per axis (1 - f for the first tap, f for the second), the level's share on x.
-    let nextf = next.round_float();
-    let tent = mul_add(pos - floor, nextf + nextf - F8::ONE, F8::ONE - nextf)
-        * F8::new([1.0 - frac, 1.0 - frac, 1.0, 1.0, frac, frac, 1.0, 1.0]);
-    let weight = permute_f(tent, columns) * permute_f(tent, rows);
-    Vec4::from(sum_lanes(texels.map(|c| c * weight)))
+    TrilinearTaps::at(levels, s, t, fp).sum()
+}
+
+/// One trilinear lookup's eight taps, worked out but not yet read: the finer level's four bilinear taps
+/// on lanes 0-3, the coarser level's on lanes 4-7, each weighted by its share of the result. A batch of
+/// lookups works out many before it reads any, asking the cache for their texels first (`prefetch`), so
+/// that the misses of a texture larger than the caches overlap.
+pub struct TrilinearTaps<'a> {
+    fine: &'a Rgba8Plane,
+    coarse: &'a Rgba8Plane,
+    /// Storage indices (see `Rgba8Plane::row_part8`), unclamped.
+    index: I8,
+    weight: F8,
+}
+
+impl<'a> TrilinearTaps<'a> {
+    /// The taps of the lookup at (s, t) with footprint `fp`. The tap positions are worked out per axis
+    /// first, on lanes (x, x + 1, y, y + 1) of each level, then paired up by two shuffles: half the
+    /// arithmetic of working on the taps, so more lookups' cache misses overlap.
+    #[inline]
+    pub fn at(levels: &'a [Rgba8Plane], s: f32, t: f32, fp: &Footprint) -> Self {
+        let (fine, coarse, frac) = level_pair(fp.mip_level(levels[0].width(), levels[0].height()), levels.len());
+        let (fine, coarse) = (&levels[fine], &levels[coarse]);
+        let (fw, fh, cw, ch) = (fine.width as i32, fine.height as i32, coarse.width as i32, coarse.height as i32);
+        let size = I8::new([fw, fw, fh, fh, cw, cw, ch, ch]);
+        let (s, t) = (s - s.floor(), t - t.floor());
+        // Each lane's position along its axis, in texels of its level, and the texel column or row it reads:
+        // the second tap of each axis is one texel on.
+        let pos = F8::new([s, s, t, t, s, s, t, t]) * size.round_float() - F8::splat(0.5);
+        let floor = pos.floor();
+        let next = I8::new([0, 1, 0, 1, 0, 1, 0, 1]);
+        let texel = wrapped(floor.fast_trunc_int() + next, size);
+        let (fb, cb) = (fine.blocks_per_row() as i32, coarse.blocks_per_row() as i32);
+        let blocks = I8::new([0, 0, fb, fb, 0, 0, cb, cb]);
+        let part = Rgba8Plane::parts8(texel, blocks, I8::new([0, 0, -1, -1, 0, 0, -1, -1]));
+        // Tap k of a level is texel (x + (k & 1), y + (k >> 1)): its storage index is a column part plus a
+        // row part.
+        let (columns, rows) = (I8::new([0, 1, 0, 1, 4, 5, 4, 5]), I8::new([2, 2, 3, 3, 6, 6, 7, 7]));
+        let index = permute(part, columns) + permute(part, rows);
+        // The tent's weights per axis (1 - f for the first tap, f for the second), the level's share on x.
+        let nextf = next.round_float();
+        let tent = mul_add(pos - floor, nextf + nextf - F8::ONE, F8::ONE - nextf)
+            * F8::new([1.0 - frac, 1.0 - frac, 1.0, 1.0, frac, frac, 1.0, 1.0]);
+        let weight = permute_f(tent, columns) * permute_f(tent, rows);
+        TrilinearTaps { fine, coarse, index, weight }
+    }
+
+    /// Asks the cache for the lines of the taps: each level's first and last tap, which share a 4 x 4 block
+    /// with the other two unless the four straddle a corner of blocks (one lookup in sixteen).
+    #[inline]
+    pub fn prefetch(&self) {
+        let index = self.index.as_array_ref();
+        self.fine.prefetch_index(index[0]);
+        self.fine.prefetch_index(index[3]);
+        self.coarse.prefetch_index(index[4]);
+        self.coarse.prefetch_index(index[7]);
+    }
+
+    /// The weighted sum of the taps.
+    #[inline]
+    pub fn sum(&self) -> Vec4 {
+        let texels = Rgba8Plane::gather_split8(self.fine, self.coarse, self.index);
+        Vec4::from(sum_lanes(texels.map(|c| c * self.weight)))
+    }
 }
 
 /// Texel `k` in [-1, n] wrapped into [0, n).
@@ -144,17 +183,54 @@ impl LaneTexels for LevelPerLane<'_> {
 /// Bilinear lookups at (s, t) in [0, 1], repeating. Tap positions, wraps and weights run on the lanes.
 #[inline]
 pub(super) fn bilinear8_on(src: &impl LaneTexels, s: F8, t: F8) -> Rgba8 {
-    let [w, h, blocks] = src.sizes();
-    let (x, y) = (s * w.round_float() - F8::splat(0.5), t * h.round_float() - F8::splat(0.5));
-    let (xf, yf) = (x.floor(), y.floor());
-    let (fx, fy) = (x - xf, y - yf);
-    // x is in [-0.5, w - 0.5]: the taps are floor(x) and the next, -1 and w wrapping round.
-    let (i0, i1) = wrapped_pair(xf.fast_trunc_int(), w);
-    let (j0, j1) = wrapped_pair(yf.fast_trunc_int(), h);
-    let (c0, c1) = (Rgba8Plane::column_part8(i0), Rgba8Plane::column_part8(i1));
-    let (r0, r1) = (Rgba8Plane::row_part8(j0, blocks), Rgba8Plane::row_part8(j1, blocks));
-    let (t00, t10, t01, t11) = (src.fetch(r0 + c0), src.fetch(r0 + c1), src.fetch(r1 + c0), src.fetch(r1 + c1));
-    lerp8(lerp8(t00, t10, fx), lerp8(t01, t11, fx), fy)
+    BilinearTaps8::at(src, s, t).sum(src)
+}
+
+/// Eight bilinear lookups' taps, worked out but not yet read: their storage indices per row and column, and
+/// the weights across.
+pub(super) struct BilinearTaps8 {
+    rows: [I8; 2],
+    columns: [I8; 2],
+    fx: F8,
+    fy: F8,
+}
+
+impl BilinearTaps8 {
+    /// The taps of the lookups at (s, t) in [0, 1], repeating.
+    #[inline]
+    pub(super) fn at(src: &impl LaneTexels, s: F8, t: F8) -> Self {
+        let [w, h, blocks] = src.sizes();
+        let (x, y) = (s * w.round_float() - F8::splat(0.5), t * h.round_float() - F8::splat(0.5));
+        let (xf, yf) = (x.floor(), y.floor());
+        // x is in [-0.5, w - 0.5]: the taps are floor(x) and the next, -1 and w wrapping round.
+        let (i0, i1) = wrapped_pair(xf.fast_trunc_int(), w);
+        let (j0, j1) = wrapped_pair(yf.fast_trunc_int(), h);
+        BilinearTaps8 {
+            rows: [Rgba8Plane::row_part8(j0, blocks), Rgba8Plane::row_part8(j1, blocks)],
+            columns: [Rgba8Plane::column_part8(i0), Rgba8Plane::column_part8(i1)],
+            fx: x - xf,
+            fy: y - yf,
+        }
+    }
+
+    /// Asks the cache for the lines of the first `lanes` lookups' taps on `plane`: each one's first and last
+    /// tap, which share a 4 x 4 block with the other two unless the four straddle a corner of blocks.
+    #[inline]
+    pub(super) fn prefetch(&self, plane: &Rgba8Plane, lanes: usize) {
+        let (first, last) = (self.rows[0] + self.columns[0], self.rows[1] + self.columns[1]);
+        for l in 0..lanes.min(LANES) {
+            plane.prefetch_index(first.as_array_ref()[l]);
+            plane.prefetch_index(last.as_array_ref()[l]);
+        }
+    }
+
+    /// The bilinear values.
+    #[inline]
+    pub(super) fn sum(&self, src: &impl LaneTexels) -> Rgba8 {
+        let ([r0, r1], [c0, c1]) = (self.rows, self.columns);
+        let (t00, t10, t01, t11) = (src.fetch(r0 + c0), src.fetch(r0 + c1), src.fetch(r1 + c0), src.fetch(r1 + c1));
+        lerp8(lerp8(t00, t10, self.fx), lerp8(t01, t11, self.fx), self.fy)
+    }
 }
 
 /// Texel `k` in [-1, n - 1] and the next one, both wrapped into [0, n).
