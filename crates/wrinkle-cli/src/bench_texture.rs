@@ -132,7 +132,7 @@ fn rate(tex: &FilteredTexture, set: &Lookups, parallel: bool, rounds: usize) -> 
 fn rate_batch(tex: &FilteredTexture, set: &Lookups, batch: usize, parallel: bool, rounds: usize) -> (f64, Option<f64>) {
     let run = |st: &[Vec2], fp: &[Footprint]| {
         let mut out = [Vec4::ZERO; CHUNK];
-        for ((st, fp), out) in st.chunks(batch).zip(fp.chunks(batch)).zip(out.chunks_mut(batch)) {
+        for ((st, fp), out) in st.chunks(batch).zip(fp.chunks(batch)).zip(out[..st.len()].chunks_mut(batch)) {
             tex.lookup_batch(st, fp, out);
         }
         out.iter().sum()
