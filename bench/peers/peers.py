@@ -121,22 +121,22 @@ def line_fields(mapping):
 
 def texture_workload(args, work):
     size, lookups, inner = ("2048", "200000", "1") if args.quick else ("4096", "1000000", "3")
-    tri, tri_lanes = (metric(f"trilinear lookups, iso footprints, random, {size}^2 RGBA8, 1 thread, {k}", "M/s", True)
+    tri, tri_batch = (metric(f"trilinear lookups, iso footprints, random, {size}^2 RGBA8, 1 thread, {k}", "M/s", True)
                       for k in ("one a call", "a batch of 16 a call"))
-    ani, ani_lanes = (metric(f"anisotropic 8:1 lookups, random, {size}^2 RGBA8, 1 thread, {k}", "M/s", True)
+    ani, ani_batch = (metric(f"anisotropic 8:1 lookups, random, {size}^2 RGBA8, 1 thread, {k}", "M/s", True)
                       for k in ("one a call", "a batch of 16 a call"))
     build = metric(f"MIP pyramid build {size}^2 RGBA8, 1 thread", "ms", False)
     iso, aniso = "filter=trilinear footprint=iso order=random", "filter=aniso footprint=aniso8 order=random"
     tools = [Tool("wrinkle", [WRINKLE, "bench-texture", "--filters", "trilinear,aniso", "--size", size, "--lookups",
                               lookups, "--rounds", inner, "--threads", "1"],
-                  line_fields({tri: (iso, "mlookups_per_s_1thread"), tri_lanes: (iso, "batch_1thread"),
-                               ani: (aniso, "mlookups_per_s_1thread"), ani_lanes: (aniso, "batch_1thread"),
+                  line_fields({tri: (iso, "mlookups_per_s_1thread"), tri_batch: (iso, "batch_1thread"),
+                               ani: (aniso, "mlookups_per_s_1thread"), ani_batch: (aniso, "batch_1thread"),
                                build: ("pyramid", "build_ms")}))]
     if os.access(OIIO_LOOKUP, os.X_OK):
         tools.append(Tool("OpenImageIO TextureSystem (C++, bench/peers/oiio)",
                           [OIIO_LOOKUP, work, size, lookups, inner],
-                          line_fields({tri: (iso, "mlookups_per_s_1thread"), tri_lanes: (iso, "batch16_1thread"),
-                                       ani: (aniso, "mlookups_per_s_1thread"), ani_lanes: (aniso, "batch16_1thread"),
+                          line_fields({tri: (iso, "mlookups_per_s_1thread"), tri_batch: (iso, "batch16_1thread"),
+                                       ani: (aniso, "mlookups_per_s_1thread"), ani_batch: (aniso, "batch16_1thread"),
                                        build: ("make_texture", "build_ms")})))
     else:
         print("left out: OpenImageIO (not built; see out/peers/oiio.log)", file=sys.stderr)

@@ -128,16 +128,15 @@ impl Texture {
         // Lookups `first..` into `out` (4 values each), as one batch (whose lookups overlap their cache
         // misses); false where a value is NaN or infinite.
         let fill = |first: usize, out: &mut [f32]| -> bool {
-            let count = out.len() / 4;
-            let st: Vec<Vec2> = (first..first + count).map(|i| Vec2::new(uv[2 * i], uv[2 * i + 1])).collect();
-            let footprints: Vec<Footprint> = (first..first + count)
+            let (count, mut ok) = (out.len() / 4, true);
+            let (st, footprints): (Vec<Vec2>, Vec<Footprint>) = (first..first + count)
                 .map(|i| {
+                    let (s, t) = (uv[2 * i], uv[2 * i + 1]);
                     let f = fp.map_or([0.0; 4], |f| [f[4 * i], f[4 * i + 1], f[4 * i + 2], f[4 * i + 3]]);
-                    Footprint { dudx: f[0], dvdx: f[1], dudy: f[2], dvdy: f[3] }
+                    ok &= s.is_finite() && t.is_finite() && f.iter().all(|v| v.is_finite());
+                    (Vec2::new(s, t), Footprint { dudx: f[0], dvdx: f[1], dudy: f[2], dvdy: f[3] })
                 })
-                .collect();
-            let ok = st.iter().all(|p| p.is_finite())
-                && footprints.iter().all(|f| [f.dudx, f.dvdx, f.dudy, f.dvdy].iter().all(|v| v.is_finite()));
+                .unzip();
             let mut values = vec![Vec4::ZERO; count];
             texture.lookup_batch(&st, &footprints, &mut values);
             for (o, v) in out.chunks_exact_mut(4).zip(&values) {

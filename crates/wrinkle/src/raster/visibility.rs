@@ -519,10 +519,11 @@ mod tests {
 
     /// The setup drops triangles that cover none of the samples in their box, and boxes only the pixels
     /// with a sample in a triangle's extent; what the samples see does not change. Thousands of triangles
-    /// of 0.2 to 3 pixels at several depths, and as many with corners on a grid of eighths of a pixel, set up for shared stratified offsets (1, 4 and 16 a pixel, and
-    /// 4 spread over a Mitchell filter, past the pixel), are rasterized against the same triangles set up as
-    /// for per-pixel Sobol offsets of the same reach (whole-pixel boxes, nothing tested): every sample keeps
-    /// the same triangle at the same depth; at 1 sample a pixel more than half of the triangles are dropped.
+    /// of 0.2 to 3 pixels at several depths, and as many with corners on a grid of eighths of a pixel, set
+    /// up for shared stratified offsets (1, 4 and 16 a pixel, and 4 spread over a Mitchell filter, past the
+    /// pixel), are rasterized against the same triangles set up as for per-pixel Sobol offsets of the same
+    /// reach (whole-pixel boxes, nothing tested): every sample keeps the same triangle at the same depth; at
+    /// 1 sample a pixel more than half of the triangles are dropped.
     #[test]
     fn triangles_between_the_samples_are_dropped_and_nothing_seen_changes() {
         let (w, h) = (64usize, 48usize);

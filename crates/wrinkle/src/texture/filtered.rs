@@ -80,20 +80,20 @@ impl Path {
 /// How many trilinear and anisotropic lookups a batch works out at a time (`pipelined`): enough that the
 /// first one's texels have arrived from memory when it is read, few enough that the last one's are still
 /// in L1 (measured on Zen 4, BENCHMARKS.md).
-const TRILINEAR_AHEAD: usize = 16;
-const ANISO_AHEAD: usize = 4;
+const TRILINEAR_RUN: usize = 16;
+const ANISO_RUN: usize = 4;
 
-/// The lookups of a batch in runs of `AHEAD`: each run's lookups are all worked out (`place`, which asks
+/// The lookups of a batch in runs of `RUN`: each run's lookups are all worked out (`place`, which asks
 /// the cache for their texels) before any of them is read (`read`).
-fn pipelined<const AHEAD: usize, P>(
+fn pipelined<const RUN: usize, P>(
     st: &[Vec2],
     footprints: &[Footprint],
     out: &mut [Vec4],
     place: impl Fn(Vec2, &Footprint) -> P,
     read: impl Fn(&P) -> Vec4,
 ) {
-    let mut placed = Vec::with_capacity(AHEAD.min(st.len()));
-    for ((st, footprints), out) in st.chunks(AHEAD).zip(footprints.chunks(AHEAD)).zip(out.chunks_mut(AHEAD)) {
+    let mut placed = Vec::with_capacity(RUN.min(st.len()));
+    for ((st, footprints), out) in st.chunks(RUN).zip(footprints.chunks(RUN)).zip(out.chunks_mut(RUN)) {
         placed.clear();
         placed.extend(st.iter().zip(footprints).map(|(&p, f)| place(p, f)));
         for (o, p) in out.iter_mut().zip(&placed) {
@@ -233,7 +233,7 @@ impl FilteredTexture {
                     taps.prefetch();
                     taps
                 };
-                pipelined::<TRILINEAR_AHEAD, _>(st, footprints, out, place, TrilinearTaps::sum);
+                pipelined::<TRILINEAR_RUN, _>(st, footprints, out, place, TrilinearTaps::sum);
             }
             (Path::Aniso8, Levels::Bytes(d)) => {
                 let (levels, max_aniso) = (d.levels(), self.options.filter.max_aniso);
@@ -242,7 +242,7 @@ impl FilteredTexture {
                     lookup.prefetch(levels);
                     lookup
                 };
-                pipelined::<ANISO_AHEAD, _>(st, footprints, out, place, |lookup| lookup.sum(levels));
+                pipelined::<ANISO_RUN, _>(st, footprints, out, place, |lookup| lookup.sum(levels));
             }
             _ => {
                 for ((p, f), o) in st.iter().zip(footprints).zip(out) {
