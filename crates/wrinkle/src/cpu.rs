@@ -58,6 +58,21 @@ pub fn build_runs_here() -> bool {
     !BUILT_FOR_X86_64_V3 || runs_x86_64_v3()
 }
 
+/// Whether this CPU is AMD's (CPUID's vendor string): the texture lanes decode sRGB by arithmetic there,
+/// where gathers issue slowly (`texture::rgba8`).
+pub fn is_amd() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        let vendor = std::arch::x86_64::__cpuid(0);
+        // "AuthenticAMD" in EBX, EDX, ECX.
+        [vendor.ebx, vendor.edx, vendor.ecx] == [0x6874_7541, 0x6974_6E65, 0x444D_4163]
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
+
 #[cfg(test)]
 mod tests {
     #[test]
