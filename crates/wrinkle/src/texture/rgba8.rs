@@ -76,11 +76,11 @@ enum ColourDecode {
 }
 
 impl ColourDecode {
-    /// The way for this texture on this CPU. AMD's CPUs (Zen) issue gathers slowly: on Zen 3 the arithmetic
-    /// made random trilinear batches 19% faster and anisotropic ones 10%. Intel's issue them fast: an
-    /// arithmetic decode lost 8% on Emerald Rapids (docs/architecture.md), so they keep the table, as does
-    /// a build without AVX2 (a gather is then eight loads). WRINKLE_SRGB_DECODE=table or arithmetic
-    /// overrides the choice, to compare the two on one machine.
+    /// The way for this texture on this CPU. AMD's CPUs (Zen) issue gathers slowly: on Zen 3 the
+    /// arithmetic made random trilinear batches 13 - 19% faster and anisotropic 8:1 ones 10 - 15%. Intel's
+    /// issue them fast: an arithmetic decode lost 8% on Emerald Rapids (docs/architecture.md), so they keep
+    /// the table, as does a build without AVX2 (a gather is then eight loads). WRINKLE_SRGB_DECODE=table or
+    /// arithmetic overrides the choice (any other value leaves it), to compare the two on one machine.
     fn of(srgb: bool) -> ColourDecode {
         static SRGB: OnceLock<ColourDecode> = OnceLock::new();
         if !srgb {
