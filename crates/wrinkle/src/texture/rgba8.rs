@@ -27,9 +27,8 @@ pub struct Rgba8Plane {
     /// The last storage index a gather may read: worked out once, so that a lookup's clamp is two
     /// instructions.
     last: i32,
-    srgb: bool,
     decode: &'static DecodeTable,
-    /// How the lanes decode the colour channels.
+    /// How the lanes decode the colour channels (and whether they are sRGB).
     colour: ColourDecode,
 }
 
@@ -92,6 +91,10 @@ impl ColourDecode {
             _ if cfg!(target_feature = "avx2") && crate::cpu::is_amd() => ColourDecode::SrgbArithmetic,
             _ => ColourDecode::SrgbTable,
         })
+    }
+
+    fn is_srgb(self) -> bool {
+        self != ColourDecode::Linear
     }
 }
 
@@ -164,16 +167,7 @@ impl Rgba8Plane {
         unsafe { blocks.set_len(count) };
         // Indices are i32 lanes: a larger level (over 2^31 texels) is read only in its first 2^31.
         let last = (count * BLOCK * BLOCK - 1).min(i32::MAX as usize) as i32;
-        Rgba8Plane {
-            width,
-            height,
-            blocks,
-            blocks_per_row,
-            last,
-            srgb,
-            decode: table(srgb),
-            colour: ColourDecode::of(srgb),
-        }
+        Rgba8Plane { width, height, blocks, blocks_per_row, last, decode: table(srgb), colour: ColourDecode::of(srgb) }
     }
 
     /// Every texel in storage order (see `block_index`).
@@ -378,7 +372,7 @@ impl TexelSource for Rgba8Plane {
 
 impl Resample for Rgba8Plane {
     fn downsample(&self, nw: usize, nh: usize, filter: MipFilter, wrap: [Wrap; 2]) -> Self {
-        Rgba8Plane::encode(&self.decode().downsample(nw, nh, filter, wrap), self.srgb, &SrgbEncoder::new())
+        Rgba8Plane::encode(&self.decode().downsample(nw, nh, filter, wrap), self.colour.is_srgb(), &SrgbEncoder::new())
     }
 }
 
