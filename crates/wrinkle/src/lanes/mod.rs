@@ -36,9 +36,21 @@ pub fn bits(mask: I8) -> F8 {
 #[inline]
 pub fn gather(values: &[f32], index: I8) -> F8 {
     let index = clamp_index(index, values.len());
+    // SAFETY: every index is inside `values` (clamped above).
+    unsafe { gather_unchecked(values, index) }
+}
+
+/// `values[index]` per lane, for indices known to be inside (a byte into a 256-entry table, say), without
+/// `gather`'s clamp.
+///
+/// # Safety
+/// Every index is inside `values`.
+#[inline]
+pub unsafe fn gather_unchecked(values: &[f32], index: I8) -> F8 {
+    debug_assert!(index.to_array().iter().all(|&k| k >= 0 && (k as usize) < values.len()));
     #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
-    // SAFETY: AVX2 is enabled at compile time and every index is inside `values` (clamped above); `I8` and
-    // `__m256i` are both eight i32, `F8` and `__m256` eight f32, so the transmutes only rename.
+    // SAFETY: AVX2 is enabled at compile time and every index is inside `values` (the caller's promise); `I8`
+    // and `__m256i` are both eight i32, `F8` and `__m256` eight f32, so the transmutes only rename.
     unsafe {
         use std::arch::x86_64::*;
         std::mem::transmute::<__m256, F8>(_mm256_i32gather_ps::<4>(

@@ -9,7 +9,7 @@ use super::mip::{MipFilter, Resample};
 use super::texel::{Plane, TexelSource};
 use super::wrap::Wrap;
 use crate::image::color::SrgbEncoder;
-use crate::lanes::{bits, gather_words, gather_words_split, mul_add, permute_f, CmpGt, F8, I8};
+use crate::lanes::{bits, gather_unchecked, gather_words, gather_words_split, mul_add, permute_f, CmpGt, F8, I8};
 use glam::Vec4;
 use rayon::prelude::*;
 use std::mem::MaybeUninit;
@@ -270,25 +270,11 @@ impl Rgba8Plane {
             // code / 255, one correctly rounded division: the table's bits.
             ColourDecode::Linear => code.round_float() / F8::splat(255.0),
             ColourDecode::SrgbArithmetic => srgb_decode8(code),
-            ColourDecode::SrgbTable => table_gather8(self.decode, code),
+            // SAFETY: every code is a byte, inside the table's 256 colour entries.
+            ColourDecode::SrgbTable => unsafe { gather_unchecked(&self.decode[..256], code) },
         };
         [colour(byte(0)), colour(byte(8)), colour(byte(16)), byte(24).round_float() * F8::splat(1.0 / 255.0)]
     }
-}
-
-/// The colour entries of `table` at `code` (0 - 255) per lane.
-#[inline]
-fn table_gather8(table: &DecodeTable, code: I8) -> F8 {
-    #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
-    // SAFETY: AVX2 is enabled at compile time; every code is masked to 0 - 255 by the caller, inside the
-    // table's colour entries; `I8` and `__m256i` are eight i32, `F8` and `__m256` eight f32.
-    unsafe {
-        use std::arch::x86_64::*;
-        let code = std::mem::transmute::<I8, __m256i>(code);
-        std::mem::transmute::<__m256, F8>(_mm256_i32gather_ps::<4>(table.as_ptr(), code))
-    }
-    #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
-    F8::new(code.to_array().map(|c| table[c as usize]))
 }
 
 /// sRGB codes (0 - 255, one per lane) in linear light by arithmetic, where a table gather is slow (see
