@@ -7,7 +7,7 @@ use super::mip::{level_pair, trilinear};
 use super::reconstruct::Addressing;
 use super::rgba8::Rgba8Plane;
 use super::texel::TexelSource;
-use super::trilinear8::{bilinear8_on, lerp8, BilinearTaps8, OneLevel};
+use super::trilinear8::{lerp8, BilinearTaps8, OneLevel};
 use super::wrap::Wrap;
 use super::Footprint;
 use crate::lanes::{lane_index, sum_lanes, CmpLt, F8, LANES};
@@ -138,10 +138,16 @@ impl AnisoLookup {
         let mut sum = [F8::ZERO; 4];
         for chunk in (0..probes.count).step_by(LANES) {
             let (ps, pt) = self.positions(chunk);
-            let mut value = bilinear8_on(&fine, ps, pt);
-            if frac > 0.0 {
-                value = lerp8(value, bilinear8_on(&coarse, ps, pt), F8::splat(frac));
-            }
+            let fine_taps = BilinearTaps8::at(&fine, ps, pt);
+            let fine_words = fine_taps.words(fine.0);
+            let value = if frac > 0.0 {
+                let coarse_taps = BilinearTaps8::at(&coarse, ps, pt);
+                let coarse_words = coarse_taps.words(coarse.0);
+                let (a, b) = (fine_taps.sum_words(fine.0, fine_words), coarse_taps.sum_words(coarse.0, coarse_words));
+                lerp8(a, b, F8::splat(frac))
+            } else {
+                fine_taps.sum_words(fine.0, fine_words)
+            };
             // Lanes past the last probe add nothing.
             let live = (lane_index() + F8::splat(chunk as f32)).cmp_lt(F8::splat(probes.count as f32));
             for c in 0..4 {

@@ -248,9 +248,15 @@ impl Rgba8Plane {
     /// outside the plane reads its nearest end instead (never memory outside).
     #[inline]
     pub fn gather8(&self, index: I8) -> [F8; 4] {
+        self.decode8(self.words8(index))
+    }
+
+    /// The texel words at storage indices `index`, not yet decoded (clamped as in `gather8`).
+    #[inline]
+    pub fn words8(&self, index: I8) -> I8 {
         let index = index.max(I8::splat(0)).min(I8::splat(self.last));
         // SAFETY: every index is in [0, last], inside the texels (see `last`).
-        self.decode8(unsafe { gather_words(self.texels(), index) })
+        unsafe { gather_words(self.texels(), index) }
     }
 
     /// `gather8` from two planes of one texture (two levels): lanes 0-3 read `low`, lanes 4-7 `high`.

@@ -224,6 +224,21 @@ impl BilinearTaps8 {
         }
     }
 
+    /// The taps' texel words on `plane` (taps 00, 10, 01, 11), gathered but not yet decoded: a lookup on
+    /// two levels asks for all eight gathers before it waits on any.
+    #[inline]
+    pub(super) fn words(&self, plane: &Rgba8Plane) -> [I8; 4] {
+        let ([r0, r1], [c0, c1]) = (self.rows, self.columns);
+        [r0 + c0, r0 + c1, r1 + c0, r1 + c1].map(|index| plane.words8(index))
+    }
+
+    /// The bilinear values of `words`, this lookup's taps' words on `plane`.
+    #[inline]
+    pub(super) fn sum_words(&self, plane: &Rgba8Plane, words: [I8; 4]) -> Rgba8 {
+        let [t00, t10, t01, t11] = words.map(|w| plane.decode8(w));
+        lerp8(lerp8(t00, t10, self.fx), lerp8(t01, t11, self.fx), self.fy)
+    }
+
     /// The bilinear values.
     #[inline]
     pub(super) fn sum(&self, src: &impl LaneTexels) -> Rgba8 {
