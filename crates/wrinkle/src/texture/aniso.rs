@@ -138,16 +138,18 @@ impl AnisoLookup {
         let mut sum = [F8::ZERO; 4];
         for chunk in (0..probes.count).step_by(LANES) {
             let (ps, pt) = self.positions(chunk);
+            // Both levels' texels are asked for before either is decoded.
             let fine_taps = BilinearTaps8::at(&fine, ps, pt);
             let fine_words = fine_taps.words(fine.0);
-            let value = if frac > 0.0 {
-                let coarse_taps = BilinearTaps8::at(&coarse, ps, pt);
-                let coarse_words = coarse_taps.words(coarse.0);
-                let (a, b) = (fine_taps.sum_words(fine.0, fine_words), coarse_taps.sum_words(coarse.0, coarse_words));
-                lerp8(a, b, F8::splat(frac))
-            } else {
-                fine_taps.sum_words(fine.0, fine_words)
-            };
+            let coarse_gathered = (frac > 0.0).then(|| {
+                let taps = BilinearTaps8::at(&coarse, ps, pt);
+                let words = taps.words(coarse.0);
+                (taps, words)
+            });
+            let mut value = fine_taps.sum_words(fine.0, fine_words);
+            if let Some((taps, words)) = coarse_gathered {
+                value = lerp8(value, taps.sum_words(coarse.0, words), F8::splat(frac));
+            }
             // Lanes past the last probe add nothing.
             let live = (lane_index() + F8::splat(chunk as f32)).cmp_lt(F8::splat(probes.count as f32));
             for c in 0..4 {

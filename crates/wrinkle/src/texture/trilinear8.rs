@@ -235,15 +235,19 @@ impl BilinearTaps8 {
     /// The bilinear values of `words`, this lookup's taps' words on `plane`.
     #[inline]
     pub(super) fn sum_words(&self, plane: &Rgba8Plane, words: [I8; 4]) -> Rgba8 {
-        let [t00, t10, t01, t11] = words.map(|w| plane.decode8(w));
-        lerp8(lerp8(t00, t10, self.fx), lerp8(t01, t11, self.fx), self.fy)
+        self.weigh(words.map(|w| plane.decode8(w)))
     }
 
     /// The bilinear values.
     #[inline]
     pub(super) fn sum(&self, src: &impl LaneTexels) -> Rgba8 {
         let ([r0, r1], [c0, c1]) = (self.rows, self.columns);
-        let (t00, t10, t01, t11) = (src.fetch(r0 + c0), src.fetch(r0 + c1), src.fetch(r1 + c0), src.fetch(r1 + c1));
+        self.weigh([src.fetch(r0 + c0), src.fetch(r0 + c1), src.fetch(r1 + c0), src.fetch(r1 + c1)])
+    }
+
+    /// The bilinear blend of the taps' decoded texels (00, 10, 01, 11).
+    #[inline]
+    fn weigh(&self, [t00, t10, t01, t11]: [Rgba8; 4]) -> Rgba8 {
         lerp8(lerp8(t00, t10, self.fx), lerp8(t01, t11, self.fx), self.fy)
     }
 }
