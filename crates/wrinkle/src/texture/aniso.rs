@@ -79,16 +79,25 @@ fn probe_by_probe<S: TexelSource>(
 /// The same filter on a repeating 8-bit pyramid, its probes eight at a time on lanes: for 8:1 footprints
 /// all eight probes of a lookup are one lane lookup per level.
 pub fn sample_rgba8_repeating(levels: &[Rgba8Plane], s: f32, t: f32, fp: &Footprint, max_aniso: f32) -> Vec4 {
-    let lookup = AnisoLookup::at(levels, s, t, fp, max_aniso);
     // Asked for first, the probes' texels on both levels arrive together, instead of the coarser level's
     // after the finer's: on a 4096^2 texture, random 8:1 lookups run a third faster.
-    lookup.prefetch(levels);
-    lookup.sum(levels)
+    AnisoLookup::at(levels, s, t, fp, max_aniso).sum(levels, Prefetch::Ask)
 }
 
 /// The texels of the smallest level whose probes are asked of the cache ahead: 1 MB of them, a Zen 4
 /// core's L2 (Intel's cores have 1.25 to 2 MB).
 const PREFETCH_FROM_TEXELS: usize = 1 << 18;
+
+/// Lookups of up to this many probes take them one by one: a lane lookup costs about three scalar probes.
+const SCALAR_PROBES_UP_TO: usize = 3;
+
+/// Whether `AnisoLookup::sum` asks the cache for each chunk's texel lines before it gathers them: one lookup
+/// alone does, a batch asked for them all at once beforehand (`AnisoLookup::prefetch`).
+#[derive(Clone, Copy, PartialEq)]
+pub enum Prefetch {
+    Ask,
+    AlreadyAsked,
+}
 
 /// One anisotropic lookup on a repeating 8-bit pyramid, its probes placed but not yet read: a batch of
 /// lookups places many before it reads any, asking the cache for their texels first (`prefetch`), so that
@@ -99,56 +108,52 @@ pub struct AnisoLookup {
     probes: Probes,
 }
 
+/// The taps of eight probes on the finer level, and on the coarser one where it weighs.
+type ChunkTaps = (BilinearTaps8, Option<BilinearTaps8>);
+
 impl AnisoLookup {
     #[inline]
     pub fn at(levels: &[Rgba8Plane], s: f32, t: f32, fp: &Footprint, max_aniso: f32) -> Self {
         AnisoLookup { s, t, probes: Probes::of_footprint(fp, levels[0].width(), levels[0].height(), max_aniso) }
     }
 
-    /// Asks the cache for the lines of every probe's taps on both levels, unless the finer level fits in a
-    /// core's L2: there, asking costs more than it saves.
+    /// Asks the cache for the lines of every probe's taps on both levels (see `ask_for`).
     pub fn prefetch(&self, levels: &[Rgba8Plane]) {
-        let probes = &self.probes;
-        let (fine, coarse, frac) = level_pair(probes.level, levels.len());
-        if levels[fine].width * levels[fine].height < PREFETCH_FROM_TEXELS {
-            return;
-        }
-        for chunk in (0..probes.count).step_by(LANES) {
-            let (ps, pt) = self.positions(chunk);
-            let lanes = probes.count - chunk;
-            for (level, used) in [(fine, true), (coarse, frac > 0.0)] {
-                if used {
-                    let plane = &levels[level];
-                    BilinearTaps8::at(&OneLevel(plane), ps, pt).prefetch(plane, lanes);
-                }
-            }
+        let (fine, coarse, frac) = level_pair(self.probes.level, levels.len());
+        for chunk in (0..self.probes.count).step_by(LANES) {
+            let taps = self.chunk_taps(&levels[fine], &levels[coarse], frac, chunk);
+            self.ask_for(&taps, &levels[fine], &levels[coarse], chunk);
         }
     }
 
     /// The filtered value: the mean of the probes, on lanes where there are enough of them to fill lanes.
-    pub fn sum(&self, levels: &[Rgba8Plane]) -> Vec4 {
+    pub fn sum(&self, levels: &[Rgba8Plane], prefetch: Prefetch) -> Vec4 {
         let probes = &self.probes;
-        // A lane lookup costs about three scalar probes.
-        if probes.count <= 3 {
+        if probes.count <= SCALAR_PROBES_UP_TO {
+            if prefetch == Prefetch::Ask {
+                self.prefetch(levels);
+            }
             let addr = Addressing { wrap: [Wrap::Repeat; 2], border: Vec4::ZERO };
             return probe_by_probe(levels, &addr, self.s, self.t, probes);
         }
         let (fine, coarse, frac) = level_pair(probes.level, levels.len());
-        let (fine, coarse) = (OneLevel(&levels[fine]), OneLevel(&levels[coarse]));
+        let (fine, coarse) = (&levels[fine], &levels[coarse]);
         let mut sum = [F8::ZERO; 4];
         for chunk in (0..probes.count).step_by(LANES) {
-            let (ps, pt) = self.positions(chunk);
+            let taps = self.chunk_taps(fine, coarse, frac, chunk);
+            if prefetch == Prefetch::Ask {
+                self.ask_for(&taps, fine, coarse, chunk);
+            }
             // Both levels' texels are asked for before either is decoded.
-            let fine_taps = BilinearTaps8::at(&fine, ps, pt);
-            let fine_words = fine_taps.words(fine.0);
-            let coarse_gathered = (frac > 0.0).then(|| {
-                let taps = BilinearTaps8::at(&coarse, ps, pt);
-                let words = taps.words(coarse.0);
+            let (fine_taps, coarse_taps) = taps;
+            let fine_words = fine_taps.words(fine);
+            let coarse_gathered = coarse_taps.map(|taps| {
+                let words = taps.words(coarse);
                 (taps, words)
             });
-            let mut value = fine_taps.sum_words(fine.0, fine_words);
+            let mut value = fine_taps.sum_words(fine, fine_words);
             if let Some((taps, words)) = coarse_gathered {
-                value = lerp8(value, taps.sum_words(coarse.0, words), F8::splat(frac));
+                value = lerp8(value, taps.sum_words(coarse, words), F8::splat(frac));
             }
             // Lanes past the last probe add nothing.
             let live = (lane_index() + F8::splat(chunk as f32)).cmp_lt(F8::splat(probes.count as f32));
@@ -157,6 +162,27 @@ impl AnisoLookup {
             }
         }
         Vec4::from(sum_lanes(sum)) * (1.0 / probes.count as f32)
+    }
+
+    /// The taps of probes `chunk..chunk + 8` on `fine`, and on `coarse` where its weight `frac` is not 0.
+    #[inline]
+    fn chunk_taps(&self, fine: &Rgba8Plane, coarse: &Rgba8Plane, frac: f32, chunk: usize) -> ChunkTaps {
+        let (ps, pt) = self.positions(chunk);
+        (BilinearTaps8::at(&OneLevel(fine), ps, pt), (frac > 0.0).then(|| BilinearTaps8::at(&OneLevel(coarse), ps, pt)))
+    }
+
+    /// Asks the cache for the lines of probes `chunk..chunk + 8`'s taps, unless the finer level fits in a
+    /// core's L2: there, asking costs more than it saves.
+    #[inline]
+    fn ask_for(&self, (fine_taps, coarse_taps): &ChunkTaps, fine: &Rgba8Plane, coarse: &Rgba8Plane, chunk: usize) {
+        if fine.width * fine.height < PREFETCH_FROM_TEXELS {
+            return;
+        }
+        let lanes = self.probes.count - chunk;
+        fine_taps.prefetch(fine, lanes);
+        if let Some(taps) = coarse_taps {
+            taps.prefetch(coarse, lanes);
+        }
     }
 
     /// Where probes `chunk..chunk + 8` sit, in [0, 1).

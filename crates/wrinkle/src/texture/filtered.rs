@@ -2,7 +2,7 @@
 //! fetch, 16-bit and float sources as linear f32), wrap modes per axis, a border colour, and one of the filters of
 //! [`Filter`] for every lookup.
 
-use super::aniso::AnisoLookup;
+use super::aniso::{AnisoLookup, Prefetch};
 use super::filter::{Filter, FilterOptions, Filterable};
 use super::mip::{build_rgba_levels, pyramid_of, LevelRule, MipFilter};
 use super::rgba8::Rgba8Plane;
@@ -245,7 +245,9 @@ impl FilteredTexture {
                     lookup.prefetch(levels);
                     lookup
                 };
-                pipelined::<ANISO_RUN, _>(st, footprints, out, place, |lookup| lookup.sum(levels));
+                pipelined::<ANISO_RUN, _>(st, footprints, out, place, |lookup| {
+                    lookup.sum(levels, Prefetch::AlreadyAsked)
+                });
             }
             _ => {
                 for ((p, f), o) in st.iter().zip(footprints).zip(out) {
