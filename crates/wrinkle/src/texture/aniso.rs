@@ -88,6 +88,13 @@ pub fn sample_rgba8_repeating(levels: &[Rgba8Plane], s: f32, t: f32, fp: &Footpr
 /// core's L2 (Intel's cores have 1.25 to 2 MB).
 const PREFETCH_FROM_TEXELS: usize = 1 << 18;
 
+/// Whether asking the cache ahead for the lines of probes whose finer level is `fine` pays: not where that
+/// level fits in a core's L2, where asking costs more than it saves.
+#[inline]
+fn worth_asking(fine: &Rgba8Plane) -> bool {
+    fine.width * fine.height >= PREFETCH_FROM_TEXELS
+}
+
 /// Lookups of up to this many probes take them one by one: a lane lookup costs about three scalar probes.
 const SCALAR_PROBES_UP_TO: usize = 3;
 
@@ -117,9 +124,13 @@ impl AnisoLookup {
         AnisoLookup { s, t, probes: Probes::of_footprint(fp, levels[0].width(), levels[0].height(), max_aniso) }
     }
 
-    /// Asks the cache for the lines of every probe's taps on both levels (see `ask_for`).
+    /// Asks the cache for the lines of every probe's taps on both levels, unless the finer level fits in a
+    /// core's L2 (`worth_asking`).
     pub fn prefetch(&self, levels: &[Rgba8Plane]) {
         let (fine, coarse, frac) = level_pair(self.probes.level, levels.len());
+        if !worth_asking(&levels[fine]) {
+            return;
+        }
         for chunk in (0..self.probes.count).step_by(LANES) {
             let taps = self.chunk_taps(&levels[fine], &levels[coarse], frac, chunk);
             self.ask_for(&taps, &levels[fine], &levels[coarse], chunk);
@@ -138,10 +149,11 @@ impl AnisoLookup {
         }
         let (fine, coarse, frac) = level_pair(probes.level, levels.len());
         let (fine, coarse) = (&levels[fine], &levels[coarse]);
+        let ask = prefetch == Prefetch::Ask && worth_asking(fine);
         let mut sum = [F8::ZERO; 4];
         for chunk in (0..probes.count).step_by(LANES) {
             let taps = self.chunk_taps(fine, coarse, frac, chunk);
-            if prefetch == Prefetch::Ask {
+            if ask {
                 self.ask_for(&taps, fine, coarse, chunk);
             }
             // Both levels' texels are asked for before either is decoded.
@@ -171,13 +183,9 @@ impl AnisoLookup {
         (BilinearTaps8::at(&OneLevel(fine), ps, pt), (frac > 0.0).then(|| BilinearTaps8::at(&OneLevel(coarse), ps, pt)))
     }
 
-    /// Asks the cache for the lines of probes `chunk..chunk + 8`'s taps, unless the finer level fits in a
-    /// core's L2: there, asking costs more than it saves.
+    /// Asks the cache for the lines of probes `chunk..chunk + 8`'s taps.
     #[inline]
     fn ask_for(&self, (fine_taps, coarse_taps): &ChunkTaps, fine: &Rgba8Plane, coarse: &Rgba8Plane, chunk: usize) {
-        if fine.width * fine.height < PREFETCH_FROM_TEXELS {
-            return;
-        }
         let lanes = self.probes.count - chunk;
         fine_taps.prefetch(fine, lanes);
         if let Some(taps) = coarse_taps {
