@@ -217,7 +217,7 @@ impl BilinearTaps8 {
     /// tap, which share a 4 x 4 block with the other two unless the four straddle a corner of blocks.
     #[inline]
     pub(super) fn prefetch(&self, plane: &Rgba8Plane, lanes: usize) {
-        let (first, last) = (self.rows[0] + self.columns[0], self.rows[1] + self.columns[1]);
+        let [first, _, _, last] = self.indices();
         for l in 0..lanes.min(LANES) {
             plane.prefetch_index(first.as_array_ref()[l]);
             plane.prefetch_index(last.as_array_ref()[l]);
@@ -228,8 +228,7 @@ impl BilinearTaps8 {
     /// two levels asks for all eight gathers before it waits on any.
     #[inline]
     pub(super) fn words(&self, plane: &Rgba8Plane) -> [I8; 4] {
-        let ([r0, r1], [c0, c1]) = (self.rows, self.columns);
-        [r0 + c0, r0 + c1, r1 + c0, r1 + c1].map(|index| plane.words8(index))
+        self.indices().map(|index| plane.words8(index))
     }
 
     /// The bilinear values of `words`, this lookup's taps' words on `plane`.
@@ -241,8 +240,14 @@ impl BilinearTaps8 {
     /// The bilinear values.
     #[inline]
     pub(super) fn sum(&self, src: &impl LaneTexels) -> Rgba8 {
+        self.weigh(self.indices().map(|index| src.fetch(index)))
+    }
+
+    /// The storage indices of the taps 00, 10, 01, 11.
+    #[inline]
+    fn indices(&self) -> [I8; 4] {
         let ([r0, r1], [c0, c1]) = (self.rows, self.columns);
-        self.weigh([src.fetch(r0 + c0), src.fetch(r0 + c1), src.fetch(r1 + c0), src.fetch(r1 + c1)])
+        [r0 + c0, r0 + c1, r1 + c0, r1 + c1]
     }
 
     /// The bilinear blend of the taps' decoded texels (00, 10, 01, 11).
