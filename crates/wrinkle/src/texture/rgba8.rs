@@ -9,10 +9,10 @@ use super::mip::{MipFilter, Resample};
 use super::texel::{Plane, TexelSource};
 use super::wrap::Wrap;
 use crate::image::color::SrgbEncoder;
+use crate::pages::{PageBuffer, Zeroable};
 use crate::lanes::{bits, gather_unchecked, gather_words, gather_words_split, mul_add, permute_f, CmpGt, F8, I8};
 use glam::Vec4;
 use rayon::prelude::*;
-use std::mem::MaybeUninit;
 use std::sync::OnceLock;
 
 #[derive(Clone, Debug)]
@@ -21,8 +21,9 @@ pub struct Rgba8Plane {
     pub height: usize,
     /// Blocks of 4 x 4 texels (64 bytes: one cache line), block rows from the bottom; inside a block, rows
     /// from the bottom. A bilinear footprint then touches one or two cache lines, not two rows far apart,
-    /// and mostly one memory page: on levels larger than the caches that is most of a lookup's cost.
-    blocks: Vec<Block>,
+    /// and mostly one memory page: on levels larger than the caches that is most of a lookup's cost. Large
+    /// levels lie in 2 MB pages (`PageBuffer`), so that a lookup's page is seldom missing from the TLB.
+    blocks: PageBuffer<Block>,
     blocks_per_row: usize,
     /// The last storage index a gather may read: worked out once, so that a lookup's clamp is two
     /// instructions.
@@ -40,6 +41,9 @@ const BLOCK: usize = 4;
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
 struct Block([[u8; 4]; BLOCK * BLOCK]);
+
+// SAFETY: a block is bytes: zero texels.
+unsafe impl Zeroable for Block {}
 
 /// The decode table: entries 0-255 the colour channels (sRGB or linear), 256-511 alpha (always linear),
 /// so that one four-lane gather decodes a whole texel.
@@ -152,19 +156,17 @@ impl Rgba8Plane {
         let blocks_per_row = width.div_ceil(BLOCK);
         let count = blocks_per_row * height.div_ceil(BLOCK);
         assert!(count > 0, "an 8-bit texture level of {width}x{height} texels holds none");
-        // Each block row zeroed and filled by one worker in one pass (`vec!` would first write every block
-        // on one thread).
-        let mut blocks = Vec::with_capacity(count);
-        blocks.spare_capacity_mut()[..count].par_chunks_mut(blocks_per_row).enumerate().for_each(|(b, out)| {
-            let out = Block::texels_mut(Block::zeroed(out));
+        // The blocks start zeroed (the texels past the level's right and top edges stay so); each block row
+        // is filled by one worker.
+        let mut blocks = PageBuffer::<Block>::zeroed(count);
+        blocks.par_chunks_mut(blocks_per_row).enumerate().for_each(|(b, out)| {
+            let out = Block::texels_mut(out);
             for r in 0..BLOCK.min(height - b * BLOCK) {
                 for (i, t) in row(b * BLOCK + r).iter().enumerate() {
                     out[block_index(i, r, blocks_per_row)] = convert(t);
                 }
             }
         });
-        // SAFETY: every one of the first `count` blocks was written (zeroed, then filled) just above.
-        unsafe { blocks.set_len(count) };
         // Indices are i32 lanes: a larger level (over 2^31 texels) is read only in its first 2^31.
         let last = (count * BLOCK * BLOCK - 1).min(i32::MAX as usize) as i32;
         Rgba8Plane { width, height, blocks, blocks_per_row, last, decode: table(srgb), colour: ColourDecode::of(srgb) }
@@ -310,15 +312,6 @@ const SRGB_PIECES: [[f32; 8]; 5] = [
 ];
 
 impl Block {
-    /// Writes zero texels to every block of `blocks`, which are then initialised.
-    fn zeroed(blocks: &mut [MaybeUninit<Block>]) -> &mut [Block] {
-        for b in blocks.iter_mut() {
-            b.write(Block([[0; 4]; BLOCK * BLOCK]));
-        }
-        // SAFETY: every element was written just above, and `MaybeUninit<Block>` has `Block`'s layout.
-        unsafe { &mut *(blocks as *mut [MaybeUninit<Block>] as *mut [Block]) }
-    }
-
     /// The texels of consecutive blocks, in storage order.
     #[inline]
     fn texels(blocks: &[Block]) -> &[[u8; 4]] {
