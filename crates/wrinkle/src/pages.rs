@@ -79,7 +79,7 @@ impl<T: Zeroable> Clone for PageBuffer<T> {
     }
 }
 
-impl<T: Zeroable + std::fmt::Debug> std::fmt::Debug for PageBuffer<T> {
+impl<T: Zeroable> std::fmt::Debug for PageBuffer<T> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "PageBuffer of {} values", self.len)
     }
@@ -169,6 +169,7 @@ fn unmap(_ptr: *mut u8, _bytes: usize) {
 mod tests {
     use super::*;
 
+    // SAFETY: zero bytes are the integer 0.
     unsafe impl Zeroable for u64 {}
 
     /// Small and large buffers start zeroed, keep what is written, clone and drop.
