@@ -249,7 +249,7 @@ impl Pattern {
     }
 
     /// t along one row of a 2D image: the points (u0 + (i + 0.5) du, v) for every i of `out`, each pixel
-    /// `width` units wide. fBm and turbulence whose octaves are all resolved run on lanes (`eval2_many`).
+    /// `width` units wide. fBm and turbulence whose octaves are all resolved run on lanes (`eval2_row`).
     pub fn row(&self, u0: f32, du: f32, v: f32, width: f32, out: &mut [f32]) {
         let s = self.params.scale;
         let sum = match self.params.kind {
@@ -260,7 +260,7 @@ impl Pattern {
         match sum {
             Some((fractal, a, k)) if self.dims == 2 && fractal.all_octaves_resolved(width * s) => {
                 let x: Vec<f32> = (0..out.len()).map(|i| (u0 + (i as f32 + 0.5) * du) * s).collect();
-                fractal.eval2_many(&x, &vec![v * s; out.len()], out);
+                fractal.eval2_row(&x, v * s, out);
                 for o in out.iter_mut() {
                     *o = (a + k * *o).clamp(0.0, 1.0);
                 }
