@@ -228,19 +228,22 @@ impl BilinearTaps8 {
     /// two levels asks for all eight gathers before it waits on any.
     #[inline]
     pub(super) fn words(&self, plane: &Rgba8Plane) -> [I8; 4] {
-        self.indices().map(|index| plane.words8(index))
+        let [i00, i10, i01, i11] = self.indices();
+        [plane.words8(i00), plane.words8(i10), plane.words8(i01), plane.words8(i11)]
     }
 
     /// The bilinear values of `words`, this lookup's taps' words on `plane`.
     #[inline]
-    pub(super) fn sum_words(&self, plane: &Rgba8Plane, words: [I8; 4]) -> Rgba8 {
-        self.weigh(words.map(|w| plane.decode8(w)))
+    pub(super) fn sum_words(&self, plane: &Rgba8Plane, [w00, w10, w01, w11]: [I8; 4]) -> Rgba8 {
+        self.weigh([plane.decode8(w00), plane.decode8(w10), plane.decode8(w01), plane.decode8(w11)])
     }
 
-    /// The bilinear values.
+    /// The bilinear values. (The four taps written out: through an array's `map` the fetch was left out
+    /// of line, a call per tap, 7% of the canonical frame on Intel.)
     #[inline]
     pub(super) fn sum(&self, src: &impl LaneTexels) -> Rgba8 {
-        self.weigh(self.indices().map(|index| src.fetch(index)))
+        let [i00, i10, i01, i11] = self.indices();
+        self.weigh([src.fetch(i00), src.fetch(i10), src.fetch(i01), src.fetch(i11)])
     }
 
     /// The storage indices of the taps 00, 10, 01, 11.
