@@ -286,8 +286,8 @@ impl Fractal {
         for i in (wide..full).step_by(LANES) {
             out[i..i + LANES].copy_from_slice(&self.eval2_lanes(&x.lanes(i), &y.lanes(i)));
         }
-        for i in full..n {
-            out[i] = self.eval([x.at(i), y.at(i), 0.0], 2, 0.0);
+        for (i, o) in out.iter_mut().enumerate().skip(full) {
+            *o = self.eval([x.at(i), y.at(i), 0.0], 2, 0.0);
         }
     }
 
@@ -301,8 +301,8 @@ impl Fractal {
         for i in (wide..full).step_by(LANES) {
             out[i..i + LANES].copy_from_slice(&self.eval3_lanes(&x.lanes(i), &y.lanes(i), &z.lanes(i)));
         }
-        for i in full..n {
-            out[i] = self.eval([x.at(i), y.at(i), z.at(i)], 3, 0.0);
+        for (i, o) in out.iter_mut().enumerate().skip(full) {
+            *o = self.eval([x.at(i), y.at(i), z.at(i)], 3, 0.0);
         }
     }
 }

@@ -433,9 +433,9 @@ impl Perlin {
         let n = out.len();
         assert!(x.len() == n && y.len() == n && z.len() == n, "coordinate slices must match the output");
         #[cfg(target_arch = "x86_64")]
-        let wide = self.wide_octave(1.0, [0.0; 3], 1.0).map_or(0, |o| {
-            super::simd512::sum(&[o], false, [x, y, z].map(super::fbm::Axis::Each), out)
-        });
+        let wide = self
+            .wide_octave(1.0, [0.0; 3], 1.0)
+            .map_or(0, |o| super::simd512::sum(&[o], false, [x, y, z].map(super::fbm::Axis::Each), out));
         #[cfg(not(target_arch = "x86_64"))]
         let wide = 0;
         let full = wide + (n - wide) / LANES * LANES;

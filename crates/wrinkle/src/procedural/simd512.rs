@@ -187,7 +187,12 @@ fn primed_cell(x: __m512, period: Option<f32>, prime: i32) -> (__m512i, __m512i,
 /// cells given along a row (`ROW`; an instance for each caller keeps it inlined).
 #[inline]
 #[target_feature(enable = "avx512f")]
-fn noise<const D: usize, const ROW: bool>(o: &Octave, g: &Gradients<D>, p: [__m512; D], row: Option<&RowCells>) -> __m512 {
+fn noise<const D: usize, const ROW: bool>(
+    o: &Octave,
+    g: &Gradients<D>,
+    p: [__m512; D],
+    row: Option<&RowCells>,
+) -> __m512 {
     // The axes written out (D <= 3): cells built in a closure over the axes left this kernel out of line.
     let cell = |a: usize| primed_cell(p[a], o.period.map(|p| p[a]), HASH_PRIME[a]);
     let row = row.filter(|_| ROW);
