@@ -193,7 +193,7 @@ fn noise<const D: usize, const ROW: bool>(
     p: [__m512; D],
     row: Option<&RowCells>,
 ) -> __m512 {
-    // The axes written out (D <= 3): cells built in a closure over the axes left this kernel out of line.
+    // Each axis's cells named (D <= 3): built through `std::array::from_fn`, they left this kernel out of line.
     let cell = |a: usize| primed_cell(p[a], o.period.map(|p| p[a]), HASH_PRIME[a]);
     let row = row.filter(|_| ROW);
     let x = cell(0);
