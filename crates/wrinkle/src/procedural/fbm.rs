@@ -49,7 +49,7 @@ pub(super) enum Axis<'a> {
 
 impl Axis<'_> {
     /// The coordinate of point i.
-    pub(super) fn at(&self, i: usize) -> f32 {
+    fn at(&self, i: usize) -> f32 {
         match self {
             Axis::Each(c) => c[i],
             Axis::All(c) => *c,
@@ -279,6 +279,7 @@ impl Fractal {
         self.eval2_axes([Axis::Each(x), Axis::All(y)], out);
     }
 
+    /// The full 2D sum at every point of the two axes into `out`: sixteen lanes, then eight, then one at a time.
     fn eval2_axes(&self, [x, y]: [Axis; 2], out: &mut [f32]) {
         let n = out.len();
         let wide = self.wide_eval([x, y], out);
