@@ -79,9 +79,15 @@ impl Frame {
     /// A frame of `background`, filled by all workers: one thread's fill (calloc's memset, as the allocator
     /// hands back the last frame's memory) was a few milliseconds of every frame's serial time.
     pub fn new(width: usize, height: usize, aovs: Aovs, background: Vec3) -> Frame {
+        let mut color = Vec::with_capacity(width * height);
+        color.par_extend(rayon::iter::repeat_n(background.to_array(), width * height));
+        Frame::with_color(width, height, aovs, color)
+    }
+
+    /// A frame of the pixels `color` (row by row, `width` x `height` of them), its AOVs still empty.
+    pub fn with_color(width: usize, height: usize, aovs: Aovs, color: Vec<[f32; 3]>) -> Frame {
         let n = width * height;
-        let mut color = Vec::with_capacity(n);
-        color.par_extend(rayon::iter::repeat_n(background.to_array(), n));
+        assert_eq!(color.len(), n, "a frame's colour has a pixel for each of its width x height");
         Frame {
             width,
             height,

@@ -37,6 +37,7 @@ use crate::{Error, Result};
 use glam::{Affine3A, Quat, Vec2, Vec3};
 use rayon::prelude::*;
 use std::borrow::Cow;
+use std::mem::MaybeUninit;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 
@@ -355,15 +356,20 @@ fn render_view_parts(
     for &part in parts {
         let t = Instant::now();
         let (ow, oh) = part.map_or((w, h), |c| (c.width(), c.height()));
-        let mut frame = Frame::new(ow, oh, aovs, background);
+        // Every pixel is written once, by the tile it lies in (the background where nothing covers it): a
+        // frame filled with the background first wrote the whole frame twice, a tenth of the canonical frame.
+        let mut color = Vec::with_capacity(ow * oh);
+        let bands = render_bands(&job, &mut color.spare_capacity_mut()[..ow * oh], part, bins, options, view, progress);
+        let (Some(bands), false) = (bands, stopped(view)) else {
+            return Err(Error::Interrupted);
+        };
+        // SAFETY: `render_bands` wrote every pixel of the first ow x oh, as it returned bands.
+        unsafe { color.set_len(ow * oh) };
+        let mut frame = Frame::with_color(ow, oh, aovs, color);
         if let Some(c) = part {
             frame.placement = Placement { x0: c.x0, y0: c.y0, width: ow, height: oh, full_width: w, full_height: h };
         }
-        let bands = render_bands(&job, &mut frame.color, part, bins, options, view, progress);
         frame.gather_aovs(bands);
-        if stopped(view) {
-            return Err(Error::Interrupted);
-        }
         stats.raster_shade_ms = ms(t);
         frame.stats = stats;
         each(frame)?;
@@ -371,25 +377,35 @@ fn render_view_parts(
     Ok(())
 }
 
-/// The colour of the frame's pixels (of the crop, where one is given) into `color`, and their AOVs band by band of
-/// tiles, on every worker; `progress` is told as bands finish.
+/// The colour of the frame's pixels (of the crop, where one is given) into `color`, every one of them written,
+/// and their AOVs band by band of tiles, on every worker; `progress` is told as bands finish. None where the
+/// view was stopped before every band was drawn (some pixels are then left unwritten).
 fn render_bands(
     job: &TileJob,
-    color: &mut [[f32; 3]],
+    color: &mut [MaybeUninit<[f32; 3]>],
     crop: Option<Crop>,
     bins: &Bins,
     options: &RenderOptions,
     view: &View,
     progress: &(dyn Fn(usize, usize) + Sync),
-) -> Vec<frame::AovBand> {
+) -> Option<Vec<frame::AovBand>> {
     let (w, h, tile_size) = (options.width, options.height, bins.tile_size);
     let band_len = tile_size * w;
     let (bands_done, bands) = (AtomicUsize::new(0), bins.tiles_y);
-    match crop {
+    let skipped = AtomicBool::new(false);
+    // Told once per band, before it is drawn: whether to leave it.
+    let stop = || {
+        let stop = stopped(view);
+        if stop {
+            skipped.store(true, Ordering::Relaxed);
+        }
+        stop
+    };
+    let aovs = match crop {
         Some(crop) => {
             let bands = crop.y1.div_ceil(tile_size) - crop.y0 / tile_size;
             let done = || progress(bands_done.fetch_add(1, Ordering::Relaxed) + 1, bands);
-            crop_bands(job, color, crop, (w, h, options.spp), tile_size, &|| stopped(view), &done)
+            crop_bands(job, color, crop, (w, h, options.spp), tile_size, &stop, &done)
         }
         None => color
             .par_chunks_mut(band_len)
@@ -398,7 +414,7 @@ fn render_bands(
                 || TileScratch::new(tile_size, options.spp),
                 |scratch, (ty, color)| {
                     let mut aov = frame::AovBand::new(job.aovs, color.len());
-                    if stopped(view) {
+                    if stop() {
                         return aov;
                     }
                     for tx in 0..bins.tiles_x {
@@ -409,7 +425,8 @@ fn render_bands(
                 },
             )
             .collect(),
-    }
+    };
+    (!skipped.load(Ordering::Relaxed)).then_some(aovs)
 }
 
 /// The environment as a light, with the convolved maps its materials need (made on first use, then kept
@@ -430,11 +447,11 @@ fn ibl(scene: &Scene) -> Option<Ibl> {
 }
 
 /// The tile rows that meet `crop`, each rendered into a whole-width band of its own (only the tiles that
-/// meet the crop) and cut to the crop: the crop's pixels are exactly the whole frame's. `stop` is asked
-/// before each band; `done` is told after each.
+/// meet the crop) and cut to the crop: the crop's pixels are exactly the whole frame's, every one of them
+/// written. `stop` is asked before each band (which is then left unwritten); `done` is told after each.
 fn crop_bands(
     job: &TileJob,
-    color: &mut [[f32; 3]],
+    color: &mut [MaybeUninit<[f32; 3]>],
     crop: Crop,
     (w, h, spp): (usize, usize, usize),
     tile_size: usize,
@@ -459,7 +476,8 @@ fn crop_bands(
             || TileScratch::new(tile_size, spp),
             |scratch, (ty, rows, part)| {
                 let band_rows = tile_size.min(h - ty * tile_size);
-                let mut band = vec![job.background.to_array(); band_rows * w];
+                // Only the tiles that meet the crop are drawn: the band's other pixels hold the background.
+                let mut band = vec![MaybeUninit::new(job.background.to_array()); band_rows * w];
                 let mut aov = frame::AovBand::new(job.aovs, band.len());
                 let local = rows.start - ty * tile_size..rows.end - ty * tile_size;
                 if stop() {
@@ -876,7 +894,7 @@ impl<'a> TileJob<'a> {
         &self,
         scratch: &mut TileScratch,
         tile: (usize, usize),
-        band: &mut [[f32; 3]],
+        band: &mut [MaybeUninit<[f32; 3]>],
         aov: &mut frame::AovBand,
         w: usize,
         h: usize,
@@ -886,7 +904,12 @@ impl<'a> TileJob<'a> {
             && self.volumes.is_empty()
             && self.sky.is_none()
         {
-            // Nothing here: the frame already holds the background, and the AOVs keep their NaN.
+            // Nothing here: the background, and the AOVs keep their NaN.
+            let size = self.bins.tile_size;
+            let x0 = tile.0 * size;
+            for row in band.chunks_exact_mut(w) {
+                row[x0..(x0 + size).min(w)].fill(MaybeUninit::new(self.background.to_array()));
+            }
             return;
         }
         scratch.vis.render_tile(self.bins, tile, (w, h), self.triangles, self.pattern);
@@ -990,7 +1013,7 @@ impl<'a> TileJob<'a> {
                     true => (plain * inv_spp, inv_spp, false),
                 };
                 let i = (y * w) + vis.x0 + x;
-                band[i] = color.to_array();
+                band[i].write(color.to_array());
                 if self.aovs.any() {
                     aov.set(i, &acc, share, weighted);
                 }
@@ -1001,7 +1024,7 @@ impl<'a> TileJob<'a> {
     /// The resolve of a tile with nothing but opaque samples to average (no volumes, translucent fragments,
     /// AOVs or negative filter weights): the full resolve's arithmetic on the colours alone, in a loop a
     /// quarter of its length (3% of the canonical frame).
-    fn resolve_plain(&self, samples: &Samples<'_>, band: &mut [[f32; 3]], w: usize) {
+    fn resolve_plain(&self, samples: &Samples<'_>, band: &mut [MaybeUninit<[f32; 3]>], w: usize) {
         let vis = samples.vis;
         let spp = vis.spp;
         let inv_spp = 1.0 / spp as f32;
@@ -1013,7 +1036,7 @@ impl<'a> TileJob<'a> {
             let row = &mut band[y * w + vis.x0..][..vis.width];
             for (x, pixel) in row.iter_mut().enumerate() {
                 let first = (y * vis.width + x) * spp;
-                *pixel = ((first..first + spp).fold(Vec3::ZERO, |sum, k| sum + seen(k)) * inv_spp).to_array();
+                pixel.write(((first..first + spp).fold(Vec3::ZERO, |sum, k| sum + seen(k)) * inv_spp).to_array());
             }
         }
     }
