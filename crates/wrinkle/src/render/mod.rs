@@ -4,6 +4,7 @@
 mod displace;
 mod frame;
 mod shadows;
+mod stream;
 mod transparent;
 mod views;
 
@@ -47,6 +48,8 @@ const SEGMENT_PX: f32 = 16.0;
 /// (raster/refine.rs) then moves each sample's (u,v) onto its ray, leaving an error of about the square of
 /// this over the radius of curvature: thousandths of a pixel.
 const SAG_PX: f32 = 0.25;
+/// The largest side of a screen tile, in pixels (at one sample a pixel).
+const MAX_TILE: usize = 64;
 
 #[derive(Clone, Debug)]
 pub struct RenderOptions {
@@ -138,7 +141,7 @@ impl RenderOptions {
     /// The side of the square screen tiles: about 4096 samples a tile (64 x 64 at one sample a pixel), at
     /// least 8 pixels so triangles are not binned into too many.
     fn tile_size(&self) -> usize {
-        let mut side = 64;
+        let mut side = MAX_TILE;
         while side > 8 && side * side * self.spp > 4096 {
             side /= 2;
         }
@@ -420,6 +423,7 @@ fn render_bands(
                     for tx in 0..bins.tiles_x {
                         job.tile(scratch, (tx, ty), color, &mut aov, w, h);
                     }
+                    stream::fence();
                     progress(bands_done.fetch_add(1, Ordering::Relaxed) + 1, bands);
                     aov
                 },
@@ -489,6 +493,7 @@ fn crop_bands(
                 for (dst, r) in part.chunks_exact_mut(cw).zip(local.clone()) {
                     dst.copy_from_slice(&band[r * w + crop.x0..r * w + crop.x0 + cw]);
                 }
+                stream::fence();
                 done();
                 aov.cropped(local, crop.x0, cw, w)
             },
@@ -905,10 +910,11 @@ impl<'a> TileJob<'a> {
             && self.sky.is_none()
         {
             // Nothing here: the background, and the AOVs keep their NaN.
-            let size = self.bins.tile_size;
-            let x0 = tile.0 * size;
+            let x0 = tile.0 * self.bins.tile_size;
+            let background = [self.background.to_array(); MAX_TILE];
+            let width = self.bins.tile_size.min(w - x0);
             for row in band.chunks_exact_mut(w) {
-                row[x0..(x0 + size).min(w)].fill(MaybeUninit::new(self.background.to_array()));
+                stream::copy_row(&mut row[x0..x0 + width], &background[..width]);
             }
             return;
         }
@@ -1032,12 +1038,13 @@ impl<'a> TileJob<'a> {
             EMPTY => samples.behind(k),
             _ => samples.shading(k).shaded.color,
         };
+        let mut row = [[0.0; 3]; MAX_TILE];
         for y in 0..vis.height {
-            let row = &mut band[y * w + vis.x0..][..vis.width];
-            for (x, pixel) in row.iter_mut().enumerate() {
+            for (x, pixel) in row[..vis.width].iter_mut().enumerate() {
                 let first = (y * vis.width + x) * spp;
-                pixel.write(((first..first + spp).fold(Vec3::ZERO, |sum, k| sum + seen(k)) * inv_spp).to_array());
+                *pixel = ((first..first + spp).fold(Vec3::ZERO, |sum, k| sum + seen(k)) * inv_spp).to_array();
             }
+            stream::copy_row(&mut band[y * w + vis.x0..][..vis.width], &row[..vis.width]);
         }
     }
 
