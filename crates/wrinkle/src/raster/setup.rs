@@ -181,12 +181,24 @@ pub enum Cull {
 #[derive(Clone, Copy, Debug)]
 pub struct ProjectedVertex {
     pub clip: ClipVertex,
-    /// Snapped screen position, 1/SUBPIXEL pixel units.
-    fixed: [i64; 2],
     /// 1/w (1 for orthographic).
     q: f32,
-    /// Inside every clip plane: triangles made only of such vertices need no clipping.
-    inside: bool,
+}
+
+/// A vertex's snapped screen position, 1/SUBPIXEL pixel units; `OUTSIDE` where the vertex lies outside a
+/// clip plane (its triangles are clipped, and their pieces projected anew). Inside the planes' guard band
+/// every position fits 32 bits (`Limit::FrameSide`).
+type ScreenPoint = [i32; 2];
+
+/// The screen point of a vertex outside a clip plane.
+const OUTSIDE: ScreenPoint = [i32::MIN; 2];
+
+/// A mesh's vertices projected: each in camera space, and apart from those, its screen point. Which
+/// triangles are kept is decided from the screen points alone, 8 bytes a vertex: read with the rest (48 bytes
+/// a vertex), a million-triangle mesh's count of them waited on memory for a third of its time.
+pub struct ProjectedVertices {
+    pub camera: Vec<ProjectedVertex>,
+    screen: Vec<ScreenPoint>,
 }
 
 /// Triangles of a projected mesh to set up: all of surface `surface`, the first of them numbered `first`
@@ -194,7 +206,7 @@ pub struct ProjectedVertex {
 /// triangle) which lie along the surface's outline.
 #[derive(Clone, Copy)]
 pub struct ProjectedMesh<'a> {
-    pub vertices: &'a [ProjectedVertex],
+    pub vertices: &'a ProjectedVertices,
     pub triangles: &'a [[u32; 3]],
     pub surface: u32,
     pub first: u32,
@@ -250,35 +262,41 @@ impl<'a> TriangleSetup<'a> {
         positions: &[Vec3],
         uvs: Option<&[Vec2]>,
         object_to_camera: &Affine3A,
-    ) -> Vec<ProjectedVertex> {
+    ) -> ProjectedVertices {
         // Big meshes in parallel chunks: one mesh is often the whole scene.
         const CHUNK: usize = 1 << 14;
         let uv = |k: usize| uvs.map_or(Vec2::ZERO, |u| u[k]);
         let n = positions.len();
-        let mut out = Vec::with_capacity(n);
+        let (mut camera, mut screen) = (Vec::with_capacity(n), Vec::with_capacity(n));
         // Each vertex stored where it belongs: collected through rayon's consumer, it went through the
         // stack and was read back in wider pieces than it was written, which stalled the store forwarding.
-        out.spare_capacity_mut()[..n].par_chunks_mut(CHUNK).zip(positions.par_chunks(CHUNK)).enumerate().for_each(
-            |(c, (to, from))| {
-                for (i, (to, &p)) in to.iter_mut().zip(from).enumerate() {
-                    let clip = ClipVertex { pos: object_to_camera.transform_point3(p), uv: uv(c * CHUNK + i) };
-                    to.write(self.project(clip));
-                }
-            },
-        );
-        // SAFETY: the chunks tile the first n slots, and each slot of each chunk was written.
-        unsafe { out.set_len(n) };
-        out
+        let chunks = camera.spare_capacity_mut()[..n]
+            .par_chunks_mut(CHUNK)
+            .zip(screen.spare_capacity_mut()[..n].par_chunks_mut(CHUNK));
+        chunks.zip(positions.par_chunks(CHUNK)).enumerate().for_each(|(c, ((to_camera, to_screen), from))| {
+            for (i, ((to_camera, to_screen), &p)) in to_camera.iter_mut().zip(to_screen).zip(from).enumerate() {
+                let clip = ClipVertex { pos: object_to_camera.transform_point3(p), uv: uv(c * CHUNK + i) };
+                let (vertex, point) = self.project(clip);
+                to_camera.write(vertex);
+                to_screen.write(if inside_all(&self.planes, &clip.pos) { point } else { OUTSIDE });
+            }
+        });
+        // SAFETY: the chunks tile the first n slots of both, and each slot of each chunk was written.
+        unsafe {
+            camera.set_len(n);
+            screen.set_len(n);
+        }
+        ProjectedVertices { camera, screen }
     }
 
-    // Inlined, so that the chunk loop of `project_vertices` stores each vertex in place.
+    /// The vertex in camera space and its screen point. Points behind the eye project to nonsense (the
+    /// casts saturate), but their triangles take the clipping path and never use it. Inlined, so that the
+    /// chunk loop of `project_vertices` stores each vertex in place.
     #[inline(always)]
-    fn project(&self, clip: ClipVertex) -> ProjectedVertex {
-        let inside = inside_all(&self.planes, &clip.pos);
+    fn project(&self, clip: ClipVertex) -> (ProjectedVertex, ScreenPoint) {
         let (screen, q) = self.camera.project(clip.pos);
-        // Points behind the eye project to nonsense, but their triangles take the clipping path and never use it.
-        let fixed = [(screen.x * SUBPIXEL as f32).round() as i64, (screen.y * SUBPIXEL as f32).round() as i64];
-        ProjectedVertex { clip, fixed, q, inside }
+        let fixed = [(screen.x * SUBPIXEL as f32).round() as i32, (screen.y * SUBPIXEL as f32).round() as i32];
+        (ProjectedVertex { clip, q }, fixed)
     }
 
     /// The triangles of a projected mesh set up. The frame counts and writes them in place instead
@@ -320,30 +338,33 @@ impl<'a> TriangleSetup<'a> {
     }
 
     /// Calls `visit` with each triangle among `which` (indices into the mesh's triangles) that the setup
-    /// keeps (each piece of one that is clipped), what it keeps of it and its index. With `counted`, those
-    /// of `which` that need no clipping are known to cover a sample (the count tested them).
+    /// keeps (each piece of one that is clipped), what it keeps of it and its index; the triangle's
+    /// vertices are read only where `visit` asks for them. With `counted`, those of `which` that need no
+    /// clipping are known to cover a sample (the count tested them).
     fn each_kept(
         &mut self,
         mesh: ProjectedMesh,
         which: impl Iterator<Item = usize>,
         counted: bool,
-        mut visit: impl FnMut(&Self, [&ProjectedVertex; 3], Kept, usize),
+        mut visit: impl FnMut(&Self, Found, Kept, usize),
     ) {
         let ProjectedMesh { vertices, triangles, surface, first, cull, outline } = mesh;
         let mut poly = std::mem::take(&mut self.polygon);
         for k in which {
             let outline = outline.map_or(Outline::Inside, |o| o[k]);
             let id = TriangleId { surface, triangle: first + k as u32, outline };
-            // By reference: copies of the vertices, read back at once, stalled the store forwarding.
-            let tri = triangles[k].map(|v| &vertices[v as usize]);
-            if tri.iter().all(|v| v.inside) {
-                if let Some(kept) = self.keep(tri, id, cull, !counted) {
-                    visit(self, tri, kept, k);
+            // Indexed outright: arrays' `map` with closures was left as calls.
+            let [a, b, c] = triangles[k].map(|v| v as usize);
+            let points = [vertices.screen[a], vertices.screen[b], vertices.screen[c]];
+            if !points.contains(&OUTSIDE) {
+                if let Some(kept) = self.keep(points.map(|p| p.map(i64::from)), id, cull, !counted) {
+                    visit(self, Found::Mesh { vertices, at: [a, b, c] }, kept, k);
                 }
             } else {
-                self.each_clipped_piece(tri, &mut poly, |piece| {
-                    if let Some(kept) = self.keep(piece, id, cull, true) {
-                        visit(self, piece, kept, k);
+                let tri = [vertices.camera[a], vertices.camera[b], vertices.camera[c]];
+                self.each_clipped_piece(&tri, &mut poly, |piece| {
+                    if let Some(kept) = self.keep(piece.points.map(|p| p.map(i64::from)), id, cull, true) {
+                        visit(self, Found::Piece(piece), kept, k);
                     }
                 });
             }
@@ -358,22 +379,22 @@ impl<'a> TriangleSetup<'a> {
     #[inline(never)]
     fn each_clipped_piece(
         &self,
-        tri: [&ProjectedVertex; 3],
+        tri: &[ProjectedVertex; 3],
         poly: &mut Vec<ClipVertex>,
-        mut visit: impl FnMut([&ProjectedVertex; 3]),
+        mut visit: impl FnMut(Corners),
     ) {
         clip_polygon(&self.planes, &tri.map(|v| v.clip), poly);
         for p in 1..poly.len().saturating_sub(1) {
-            let piece = [poly[0], poly[p], poly[p + 1]].map(|c| self.project(c));
-            visit([&piece[0], &piece[1], &piece[2]]);
+            let [(v0, f0), (v1, f1), (v2, f2)] = [poly[0], poly[p], poly[p + 1]].map(|c| self.project(c));
+            visit(Corners { vertices: [&v0, &v1, &v2], points: [f0, f1, f2] });
         }
     }
 
-    /// Whether the triangle is kept (it covers some area, faces the way `cull` keeps, its box meets the
-    /// screen, and where `test` it covers a sample), and if so its vertices' order and box.
+    /// Whether the triangle with screen points `fixed` is kept (it covers some area, faces the way `cull`
+    /// keeps, its box meets the screen, and where `test` it covers a sample), and if so its vertices' order
+    /// and box.
     #[inline(always)]
-    fn keep(&self, tri: [&ProjectedVertex; 3], id: TriangleId, cull: Cull, test: bool) -> Option<Kept> {
-        let fixed = tri.map(|v| v.fixed);
+    fn keep(&self, fixed: [[i64; 2]; 3], id: TriangleId, cull: Cull, test: bool) -> Option<Kept> {
         let area = edge_at(fixed[0], fixed[1], fixed[2]);
         if area == 0 {
             return None;
@@ -419,11 +440,12 @@ impl<'a> TriangleSetup<'a> {
     }
 
     /// The kept triangle's edge functions and planes.
-    fn finish(&self, tri: [&ProjectedVertex; 3], kept: Kept) -> ScreenTriangle {
+    fn finish(&self, found: Found, kept: Kept) -> ScreenTriangle {
         let Kept { order, bbox, id } = kept;
+        let tri = found.corners();
         // Indexed outright: arrays' `map` with closures was left as calls.
-        let v = [tri[order[0]], tri[order[1]], tri[order[2]]];
-        let fx = [v[0].fixed, v[1].fixed, v[2].fixed];
+        let v = [tri.vertices[order[0]], tri.vertices[order[1]], tri.vertices[order[2]]];
+        let fx = [order[0], order[1], order[2]].map(|k| tri.points[k].map(i64::from));
         let edges = edge_functions(&fx);
         let (mut slopes, mut offsets) = ([[0i32; 2]; 3], [0i64; 3]);
         for (e, &[ca, cb, c]) in edges.iter().enumerate() {
@@ -466,6 +488,34 @@ impl<'a> TriangleSetup<'a> {
 pub struct Counted {
     pub count: usize,
     kept: Vec<u64>,
+}
+
+/// A triangle's three vertices and their screen points. By reference: copies of the vertices, read back at
+/// once, stalled the store forwarding.
+#[derive(Clone, Copy)]
+struct Corners<'v> {
+    vertices: [&'v ProjectedVertex; 3],
+    points: [ScreenPoint; 3],
+}
+
+/// Where a kept triangle's corners are, read only when its planes are made: three vertices of the mesh,
+/// or a piece of a clipped triangle.
+enum Found<'v> {
+    Mesh { vertices: &'v ProjectedVertices, at: [usize; 3] },
+    Piece(Corners<'v>),
+}
+
+impl<'v> Found<'v> {
+    #[inline(always)]
+    fn corners(self) -> Corners<'v> {
+        match self {
+            Found::Mesh { vertices, at: [a, b, c] } => Corners {
+                vertices: [&vertices.camera[a], &vertices.camera[b], &vertices.camera[c]],
+                points: [vertices.screen[a], vertices.screen[b], vertices.screen[c]],
+            },
+            Found::Piece(corners) => corners,
+        }
+    }
 }
 
 /// What the setup keeps of a triangle before making its planes: the order of its vertices that makes its

@@ -27,7 +27,7 @@ use crate::raster::exact::{exact8, frames_at, outline_triangles, start_within, t
 use crate::raster::refine::{affine_uv8, refine_uv8};
 pub use crate::raster::samples::{PixelFilter, Sampler, ShadingRate, MAX_SPP};
 use crate::raster::setup::{
-    interpolate8, keep_triangle_buffer, triangle_buffer, Counted, ProjectedMesh, ProjectedVertex,
+    interpolate8, keep_triangle_buffer, triangle_buffer, Counted, ProjectedMesh, ProjectedVertices,
 };
 use crate::raster::visibility::{BinPart, EMPTY};
 use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer, SUBPIXEL};
@@ -675,7 +675,7 @@ fn setup_triangles(
 ) -> (Vec<ScreenTriangle>, Vec<BinPart>) {
     const CHUNK: usize = 8192;
     let projector = TriangleSetup::new(camera, pattern);
-    let projected: Vec<Vec<ProjectedVertex>> = instances
+    let projected: Vec<ProjectedVertices> = instances
         .par_iter()
         .zip(meshes)
         .map(|(inst, mesh)| projector.project_vertices(mesh.positions(), mesh.uvs(), &inst.object_to_camera))
@@ -686,9 +686,12 @@ fn setup_triangles(
         .zip(meshes)
         .zip(&projected)
         .map(|((inst, mesh), vertices)| match (&inst.primitive, mesh) {
-            (Primitive::Parametric(surface), Triangles::Grid(grid)) if !inst.affine => {
-                Some(outline_triangles(surface, grid, |k| vertices[k as usize].clip.pos, camera.is_perspective()))
-            }
+            (Primitive::Parametric(surface), Triangles::Grid(grid)) if !inst.affine => Some(outline_triangles(
+                surface,
+                grid,
+                |k| vertices.camera[k as usize].clip.pos,
+                camera.is_perspective(),
+            )),
             _ => None,
         })
         .collect();
