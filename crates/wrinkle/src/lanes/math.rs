@@ -38,7 +38,7 @@ fn horner<const N: usize>(x: F8, c: [f32; N]) -> F8 {
 /// The lanes' bits as integers (each lane's 32 bits kept as they are; `bits` is the way back), so a mask
 /// is -1 where set.
 #[inline]
-fn to_bits(v: F8) -> I8 {
+pub fn to_bits(v: F8) -> I8 {
     // SAFETY: both are eight 32-bit lanes, and every bit pattern is valid in both.
     unsafe { std::mem::transmute::<F8, I8>(v) }
 }

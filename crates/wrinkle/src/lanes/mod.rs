@@ -4,7 +4,7 @@
 
 mod math;
 
-pub use math::{asin, atan2, log2, mul_add, pow};
+pub use math::{asin, atan2, log2, mul_add, pow, to_bits};
 
 use glam::{Affine3A, Mat3, Vec3, Vec3A};
 use std::ops::{Add, Mul, Neg, Sub};

@@ -103,7 +103,22 @@ impl Camera {
 }
 
 impl Camera {
-    /// Screen positions of eight camera-space points (`project` on every lane).
+    /// `project` on eight lanes to the same bits: screen x, screen y and 1/w (what the triangle setup
+    /// snaps; `project8` takes fewer steps, within rounding).
+    #[inline]
+    pub fn project_exact8(&self, p: &V3) -> (F8, F8, F8) {
+        let (cx, cy) = (F8::splat(0.5 * self.width as f32), F8::splat(0.5 * self.height as f32));
+        let scale = F8::splat(self.scale);
+        match self.projection {
+            Projection::Perspective { .. } => {
+                let q = F8::ONE / -p.z;
+                (cx + scale * p.x * q, cy - scale * p.y * q, q)
+            }
+            Projection::Orthographic { .. } => (cx + scale * p.x, cy - scale * p.y, F8::ONE),
+        }
+    }
+
+    /// Screen positions of eight camera-space points (`project` on every lane, within rounding).
     #[inline]
     pub fn project8(&self, p: V3) -> (F8, F8) {
         let (cx, cy) = (F8::splat(0.5 * self.width as f32), F8::splat(0.5 * self.height as f32));

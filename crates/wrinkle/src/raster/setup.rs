@@ -6,7 +6,7 @@ use super::clip::{clip_planes, clip_polygon, inside_all, ClipVertex};
 use super::exact::{Outline, OUTLINE_MARGIN_PX};
 use super::samples::SamplePattern;
 use super::SUBPIXEL;
-use crate::lanes::{F8, LANES};
+use crate::lanes::{to_bits, CmpEq, CmpGe, CmpLe, F8, I8, LANES, V3};
 use glam::{Affine3A, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 use std::mem::MaybeUninit;
@@ -274,8 +274,26 @@ impl<'a> TriangleSetup<'a> {
             .par_chunks_mut(CHUNK)
             .zip(screen.spare_capacity_mut()[..n].par_chunks_mut(CHUNK));
         chunks.zip(positions.par_chunks(CHUNK)).enumerate().for_each(|(c, ((to_camera, to_screen), from))| {
-            for (i, ((to_camera, to_screen), &p)) in to_camera.iter_mut().zip(to_screen).zip(from).enumerate() {
-                let clip = ClipVertex { pos: object_to_camera.transform_point3(p), uv: uv(c * CHUNK + i) };
+            // Eight vertices at a time on lanes, then the rest one by one: the same bits.
+            let lanes = from.len() / LANES * LANES;
+            for (j, ((to_camera, to_screen), from)) in to_camera[..lanes]
+                .chunks_exact_mut(LANES)
+                .zip(to_screen[..lanes].chunks_exact_mut(LANES))
+                .zip(from.chunks_exact(LANES))
+                .enumerate()
+            {
+                let pos = V3::transform_point(object_to_camera, V3::from_lanes(from.try_into().expect("eight")));
+                let (points, q) = self.project8(&pos);
+                let (x, y, z, q) = (pos.x.to_array(), pos.y.to_array(), pos.z.to_array(), q.to_array());
+                for l in 0..LANES {
+                    let clip = ClipVertex { pos: Vec3::new(x[l], y[l], z[l]), uv: uv(c * CHUNK + j * LANES + l) };
+                    to_camera[l].write(ProjectedVertex { clip, q: q[l] });
+                    to_screen[l].write(points[l]);
+                }
+            }
+            let rest = to_camera[lanes..].iter_mut().zip(&mut to_screen[lanes..]).zip(&from[lanes..]);
+            for (i, ((to_camera, to_screen), &p)) in rest.enumerate() {
+                let clip = ClipVertex { pos: object_to_camera.transform_point3(p), uv: uv(c * CHUNK + lanes + i) };
                 let (vertex, point) = self.project(clip);
                 to_camera.write(vertex);
                 to_screen.write(if inside_all(&self.planes, &clip.pos) { point } else { OUTSIDE });
@@ -287,6 +305,21 @@ impl<'a> TriangleSetup<'a> {
             screen.set_len(n);
         }
         ProjectedVertices { camera, screen }
+    }
+
+    /// `project` of eight camera-space points, with `OUTSIDE` for those outside a clip plane: their screen
+    /// points and 1/w.
+    #[inline(always)]
+    fn project8(&self, pos: &V3) -> ([ScreenPoint; LANES], F8) {
+        let distance =
+            |p: &Vec4| F8::splat(p.x) * pos.x + F8::splat(p.y) * pos.y + F8::splat(p.z) * pos.z + F8::splat(p.w);
+        let inside = self.planes.iter().fold(F8::ZERO.cmp_eq(F8::ZERO), |all, p| all & distance(p).cmp_ge(F8::ZERO));
+        let (sx, sy, q) = self.camera.project_exact8(pos);
+        let (x, y) = (round_to_int(sx * F8::splat(SUBPIXEL as f32)), round_to_int(sy * F8::splat(SUBPIXEL as f32)));
+        let outside = I8::splat(i32::MIN);
+        let inside = to_bits(inside);
+        let (x, y) = (inside.blend(x, outside).to_array(), inside.blend(y, outside).to_array());
+        (std::array::from_fn(|l| [x[l], y[l]]), q)
     }
 
     /// The vertex in camera space and its screen point. Points behind the eye project to nonsense (the
@@ -490,6 +523,16 @@ pub struct Counted {
     kept: Vec<u64>,
 }
 
+/// `x.round() as i32` per lane (halves away from zero), for |x| below 2^31; other lanes are undefined.
+#[inline(always)]
+fn round_to_int(x: F8) -> I8 {
+    let t = x.fast_trunc_int();
+    // The fraction x - trunc(x) is exact in f32.
+    let fraction = x - t.round_float();
+    // A true mask is -1 as an integer.
+    t - to_bits(fraction.cmp_ge(F8::splat(0.5))) + to_bits(fraction.cmp_le(F8::splat(-0.5)))
+}
+
 /// A triangle's three vertices and their screen points. By reference: copies of the vertices, read back at
 /// once, stalled the store forwarding.
 #[derive(Clone, Copy)]
@@ -623,6 +666,53 @@ mod tests {
         let want: Vec<usize> = [0, 1, 3, 191].into_iter().chain(192..256).collect();
         assert_eq!(set_bits(&words).collect::<Vec<_>>(), want);
         assert_eq!(set_bits(&[]).count(), 0);
+    }
+
+    /// Lanes round to the nearest integer as `f32::round` does, halves away from zero.
+    #[test]
+    fn lanes_round_halves_away_from_zero() {
+        let values = [0.5, 1.5, -0.5, -1.5, 2.5, -2.5, 0.49999997, -0.49999997, 1e6 + 0.5, -8388607.5, 3.0, 0.0];
+        for eight in values.chunks(LANES) {
+            let lanes = F8::new(std::array::from_fn(|l| eight.get(l).copied().unwrap_or(0.0)));
+            let got = round_to_int(lanes).to_array();
+            for (l, &v) in eight.iter().enumerate() {
+                assert_eq!(got[l], v.round() as i32, "{v}");
+            }
+        }
+    }
+
+    /// Vertices projected eight at a time on lanes give the bits of `project` one by one, in perspective
+    /// and orthographically: points inside, outside the clip planes and behind the eye, and the tail after
+    /// the last whole eight.
+    #[test]
+    fn vertices_project_on_lanes_as_one_by_one() {
+        use super::super::camera::Projection;
+        let pattern = SamplePattern::centre();
+        let positions: Vec<Vec3> = (0..203)
+            .map(|i| {
+                let t = i as f32 * 0.618_034;
+                Vec3::new((t * 7.3).sin() * 3.0, (t * 3.1).cos() * 2.0, (t * 1.7).sin() * 6.0)
+            })
+            .collect();
+        for projection in [Projection::Perspective { fov_y: 40.0 }, Projection::Orthographic { height: 4.0 }] {
+            let camera = Camera::new(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, Vec3::Y, projection, 640, 360);
+            let setup = TriangleSetup::new(&camera, &pattern);
+            let uvs: Vec<Vec2> = (0..positions.len()).map(|i| Vec2::new(i as f32, -(i as f32))).collect();
+            let to_camera = camera.world_to_camera;
+            let projected = setup.project_vertices(&positions, Some(&uvs), &to_camera);
+            let mut outside = 0;
+            for (k, &p) in positions.iter().enumerate() {
+                let clip = ClipVertex { pos: to_camera.transform_point3(p), uv: uvs[k] };
+                let (vertex, point) = setup.project(clip);
+                let point = if inside_all(&setup.planes, &clip.pos) { point } else { OUTSIDE };
+                outside += (point == OUTSIDE) as usize;
+                let got = &projected.camera[k];
+                assert_eq!(got.clip.pos.to_array().map(f32::to_bits), clip.pos.to_array().map(f32::to_bits), "{k}");
+                assert_eq!((got.clip.uv, got.q.to_bits()), (vertex.clip.uv, vertex.q.to_bits()), "vertex {k}");
+                assert_eq!(projected.screen[k], point, "vertex {k}");
+            }
+            assert!(outside > 10 && outside < positions.len() - 10, "{outside} outside");
+        }
     }
 
     #[test]
