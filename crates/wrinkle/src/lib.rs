@@ -39,6 +39,7 @@ pub(crate) mod raster;
 pub mod render;
 pub mod scene;
 pub mod shade;
+mod stream;
 pub mod texture;
 
 pub use bump::{BumpFormula, BumpMap, BumpSource, BumpTable};

@@ -7,6 +7,7 @@ use super::exact::{Outline, OUTLINE_MARGIN_PX};
 use super::samples::SamplePattern;
 use super::SUBPIXEL;
 use crate::lanes::{to_bits, CmpEq, CmpGe, CmpLe, F8, I8, LANES, V3};
+use crate::stream;
 use glam::{Affine3A, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
 use std::mem::MaybeUninit;
@@ -58,7 +59,7 @@ impl Plane8 {
 }
 
 /// A triangle ready to rasterize and to interpolate.
-#[derive(Clone, Debug)]
+#[derive(Clone, Copy, Debug)]
 pub struct ScreenTriangle {
     /// Edge functions E = A x + B y + C in fixed point, E >= 0 inside, with the fill rule folded into C (one
     /// less on the edges that do not own the samples exactly on them): each edge's (A, B), 32 bits (the
@@ -364,9 +365,13 @@ impl<'a> TriangleSetup<'a> {
     ) {
         let mut n = 0;
         self.each_kept(mesh, set_bits(&counted.kept), true, |setup, tri, kept, _| {
-            written(n, out[n].write(setup.finish(tri, kept)));
+            let triangle = setup.finish(tri, kept);
+            written(n, &triangle);
+            // Past the caches: the whole set is far larger than they are, and is read only by the tiles.
+            stream::store(&mut out[n], triangle);
             n += 1;
         });
+        stream::fence();
         assert_eq!(n, out.len(), "triangle setup counted otherwise than it wrote");
     }
 

@@ -4,7 +4,6 @@
 mod displace;
 mod frame;
 mod shadows;
-mod stream;
 mod transparent;
 mod views;
 
@@ -33,6 +32,7 @@ use crate::raster::visibility::{BinPart, EMPTY};
 use crate::raster::{Bins, Camera, Cull, SamplePattern, ScreenTriangle, TriangleSetup, VisBuffer, SUBPIXEL};
 use crate::scene::{CameraDesc, Scene};
 use crate::shade::{AlphaMode, Ibl, MappingNeeds, ShadeContext, ShadedSample, SurfaceSamples8};
+use crate::stream;
 use crate::texture::{Footprint8, TexelLocation};
 use crate::{Error, Result};
 use glam::{Affine3A, Quat, Vec2, Vec3};
