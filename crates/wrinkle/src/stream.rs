@@ -42,7 +42,7 @@ pub fn copy_row(dst: &mut [MaybeUninit<[f32; 3]>], src: &[[f32; 3]]) {
 pub fn store<T: Copy>(dst: &mut MaybeUninit<T>, value: T) {
     let size = std::mem::size_of::<T>();
     let to = dst.as_mut_ptr().cast::<u8>();
-    if !cfg!(target_arch = "x86_64") || size % 16 != 0 || to as usize % 16 != 0 {
+    if !cfg!(target_arch = "x86_64") || !size.is_multiple_of(16) || !(to as usize).is_multiple_of(16) {
         dst.write(value);
         return;
     }

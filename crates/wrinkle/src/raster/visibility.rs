@@ -500,7 +500,7 @@ mod tests {
                 let y0 = (k.wrapping_mul(40_503) % h as u32) as i32;
                 let size = (k % 7) as i32 * 40;
                 let bbox = [x0, y0, (x0 + size).min(w as i32 - 1), (y0 + size / 2).min(h as i32 - 1)];
-                ScreenTriangle { bbox, surface: k % 3, ..one.clone() }
+                ScreenTriangle { bbox, surface: k % 3, ..one }
             })
             .collect();
         let bins = Bins::of(&triangles, w, h, tile, |t| t.surface != 1);
