@@ -314,7 +314,8 @@ impl<'a> TriangleSetup<'a> {
     fn project8(&self, pos: &V3) -> ([ScreenPoint; LANES], F8) {
         let distance =
             |p: &Vec4| F8::splat(p.x) * pos.x + F8::splat(p.y) * pos.y + F8::splat(p.z) * pos.z + F8::splat(p.w);
-        let inside = self.planes.iter().fold(F8::ZERO.cmp_eq(F8::ZERO), |all, p| all & distance(p).cmp_ge(F8::ZERO));
+        let every_lane = F8::ZERO.cmp_eq(F8::ZERO);
+        let inside = self.planes.iter().fold(every_lane, |all, p| all & distance(p).cmp_ge(F8::ZERO));
         let (sx, sy, q) = self.camera.project_exact8(pos);
         let (x, y) = (round_to_int(sx * F8::splat(SUBPIXEL as f32)), round_to_int(sy * F8::splat(SUBPIXEL as f32)));
         let outside = I8::splat(i32::MIN);

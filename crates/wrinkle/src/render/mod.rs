@@ -360,7 +360,7 @@ fn render_view_parts(
         let t = Instant::now();
         let (ow, oh) = part.map_or((w, h), |c| (c.width(), c.height()));
         // Every pixel is written once, by the tile it lies in (the background where nothing covers it): a
-        // frame filled with the background first wrote the whole frame twice, a tenth of the canonical frame.
+        // frame filled with the background first wrote it twice (a tenth of the canonical frame on one thread).
         let mut color = Vec::with_capacity(ow * oh);
         let bands = render_bands(&job, &mut color.spare_capacity_mut()[..ow * oh], part, bins, options, view, progress);
         let (Some(bands), false) = (bands, stopped(view)) else {
