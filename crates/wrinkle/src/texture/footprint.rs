@@ -15,16 +15,16 @@ impl Footprint {
     /// The MIP level of a `width` x `height` table: log2 of the longer of the two pixel axes, in texels
     /// (Williams 1983); 0 when the pixel covers less than one texel.
     pub fn mip_level(&self, width: usize, height: usize) -> f32 {
+        mip_level_of(self.longer_axis_squared(width, height))
+    }
+
+    /// The square of the longer pixel axis in texels of a `width` x `height` table.
+    #[inline]
+    pub fn longer_axis_squared(&self, width: usize, height: usize) -> f32 {
         // Through u32 (sizes are far below 2^32): one conversion instruction; from usize it takes a branch.
         let (w, h) = (width as u32 as f32, height as u32 as f32);
         let (ux, vx, uy, vy) = (self.dudx * w, self.dvdx * h, self.dudy * w, self.dvdy * h);
-        // log2 of the longer length from its square: no square root, no hypot call.
-        let len2 = (ux * ux + vx * vx).max(uy * uy + vy * vy);
-        if len2 > 1.0 {
-            0.5 * len2.log2()
-        } else {
-            0.0
-        }
+        (ux * ux + vx * vx).max(uy * uy + vy * vy)
     }
 
     /// The MIP level from the pixel's area instead (the slides' alternative): log2 of the square root of
@@ -49,6 +49,17 @@ impl Footprint {
     pub fn in_texels(&self, width: usize, height: usize) -> [f32; 4] {
         let (w, h) = (width as f32, height as f32);
         [self.dudx * w, self.dvdx * h, self.dudy * w, self.dvdy * h]
+    }
+}
+
+/// `Footprint::mip_level` from the square of the longer axis in texels: log2 of the axis, from its square
+/// (no square root, no hypot call); 0 below one texel.
+#[inline]
+pub fn mip_level_of(len2: f32) -> f32 {
+    if len2 > 1.0 {
+        0.5 * len2.log2()
+    } else {
+        0.0
     }
 }
 
