@@ -8,7 +8,7 @@ use super::footprint::mip_level_of;
 use super::rgba8::Rgba8Plane;
 use super::texel::TexelSource;
 use super::{Footprint, Footprint8};
-use crate::lanes::{log2, mul_add, permute, permute_f, sum_lanes, to_bits, CmpGt, CmpLt, F8, I8, LANES};
+use crate::lanes::{log2, mul_add, permute, permute_f, sum_lanes, to_bits, CmpEq, CmpGt, CmpLt, F8, I8, LANES};
 use glam::Vec4;
 
 /// RGBA as four channel lanes.
@@ -29,7 +29,20 @@ pub fn trilinear8(levels: &[Rgba8Plane], s: F8, t: F8, fp: &Footprint8) -> Rgba8
     let l0 = level.floor();
     let frac = level - l0;
     let (s, t) = (s - s.floor(), t - t.floor());
-    let l0 = l0.as_array_ref().map(|l| l as usize);
+    // The texels' places wait only on the finer level read from len2's exponent (as in
+    // `level_pair_from_exponent`); where the log2's level is another (it rounded up to an integer), the
+    // lookup is made again on the log2's levels.
+    let guess = fine_levels_from_exponent(len2, levels.len() - 1);
+    if !guess.round_float().cmp_eq(l0).all() {
+        return trilinear8_on_levels(levels, l0.as_array_ref().map(|l| l as usize), frac, s, t);
+    }
+    let l0 = guess.as_array_ref().map(|l| l as usize);
+    trilinear8_on_levels(levels, l0, frac, s, t)
+}
+
+/// `trilinear8` on the finer levels `l0` (the coarser ones are one on), `frac` the coarser ones' shares.
+#[inline(always)]
+fn trilinear8_on_levels(levels: &[Rgba8Plane], l0: [usize; LANES], frac: F8, s: F8, t: F8) -> Rgba8 {
     let coarse = l0.map(|l| (l + 1).min(levels.len() - 1));
     let a = bilinear8(levels, &l0, s, t);
     if frac.cmp_gt(F8::ZERO).none() {
@@ -132,6 +145,13 @@ fn level_pair_from_exponent(len2: f32, count: usize) -> (usize, usize, f32) {
     let fine = if len2 > 1.0 { (((len2.to_bits() >> 23) - 127) >> 1).min(last as u32) as usize } else { 0 };
     let level = mip_level_of(len2).min(last as f32);
     (fine, (fine + 1).min(last), level - fine as f32)
+}
+
+/// The finer level of `level_pair_from_exponent` on lanes.
+#[inline]
+fn fine_levels_from_exponent(len2: F8, last: usize) -> I8 {
+    let half_exponent: I8 = ((to_bits(len2) >> 23_i32) - I8::splat(127)) >> 1_i32;
+    to_bits(len2.cmp_gt(F8::ONE)) & half_exponent.min(I8::splat(last as i32))
 }
 
 /// Texel `k` in [-1, n] wrapped into [0, n).
