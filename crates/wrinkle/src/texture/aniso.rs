@@ -18,6 +18,9 @@ use glam::{Vec2, Vec4};
 struct Probes {
     count: usize,
     level: f32,
+    /// floor(level) as read from the exponent of the probes' width (before the level is clamped to the
+    /// pyramid): what the lane lookups place their taps by, without waiting on the log2.
+    floor_level: u32,
     axis: Vec2,
 }
 
@@ -25,7 +28,7 @@ impl Probes {
     fn of_footprint(fp: &Footprint, w: usize, h: usize, max_aniso: f32) -> Probes {
         let axes = Axes::of_footprint(fp, w, h);
         if !axes.major.is_finite() {
-            return Probes { count: 1, level: f32::MAX, axis: Vec2::ZERO };
+            return Probes { count: 1, level: f32::MAX, floor_level: u32::MAX, axis: Vec2::ZERO };
         }
         let ratio = if axes.minor > 0.0 { axes.major / axes.minor } else { f32::MAX };
         // Rounding in the axes puts an exact 8:1 footprint at 8.000002 as often as at 7.999998: a ratio
@@ -33,9 +36,19 @@ impl Probes {
         let count = (ratio.min(max_aniso) * (1.0 - 1e-4)).ceil().max(1.0) as usize;
         // Each probe covers an equal part of the major axis, and at least the minor axis.
         let width = (axes.major / count as f32).max(axes.minor);
-        let level = if width > 1.0 { width.log2() } else { 0.0 };
+        let (level, floor_level) = Probes::levels_of_width(width);
         let axis = Vec2::new(axes.dir.x * axes.major / w as f32, axes.dir.y * axes.major / h as f32);
-        Probes { count, level, axis }
+        Probes { count, level, floor_level, axis }
+    }
+
+    /// The level of probes `width` texels wide (log2, 0 below one texel), and its floor from the exponent.
+    fn levels_of_width(width: f32) -> (f32, u32) {
+        if width > 1.0 {
+            // A normal number or infinity, its biased exponent in [127, 255] (NaN is not above 1).
+            (width.log2(), (width.to_bits() >> 23) - 127)
+        } else {
+            (0.0, 0)
+        }
     }
 
     /// Probe `k`'s offset along the axis: the centre of the k-th of `count` equal parts.
@@ -147,8 +160,30 @@ impl AnisoLookup {
             let addr = Addressing { wrap: [Wrap::Repeat; 2], border: Vec4::ZERO };
             return probe_by_probe(levels, &addr, self.s, self.t, probes);
         }
-        let (fine, coarse, frac) = level_pair(probes.level, levels.len());
-        let (fine, coarse) = (&levels[fine], &levels[coarse]);
+        // The taps' places wait only on the level read from the exponent; the log2's level gives the
+        // coarser level's share. Where the log2 rounded up to the next integer (the share would be 1), the
+        // lookup is made on the log2's levels instead, so that the bits are theirs.
+        let last = levels.len() - 1;
+        let fine = (probes.floor_level as usize).min(last);
+        let frac = probes.level.min(last as f32) - fine as f32;
+        if frac >= 1.0 {
+            return self.sum_on_log2_levels(levels, prefetch);
+        }
+        self.sum_on((&levels[fine], &levels[(fine + 1).min(last)], frac), prefetch)
+    }
+
+    /// `sum` where the exponent's level is not the log2's.
+    #[cold]
+    #[inline(never)]
+    fn sum_on_log2_levels(&self, levels: &[Rgba8Plane], prefetch: Prefetch) -> Vec4 {
+        let (fine, coarse, frac) = level_pair(self.probes.level, levels.len());
+        self.sum_on((&levels[fine], &levels[coarse], frac), prefetch)
+    }
+
+    /// The mean of the probes on lanes, on the levels `fine` and `coarse`, `frac` the coarser one's share.
+    #[inline(always)]
+    fn sum_on(&self, (fine, coarse, frac): (&Rgba8Plane, &Rgba8Plane, f32), prefetch: Prefetch) -> Vec4 {
+        let probes = &self.probes;
         let ask = prefetch == Prefetch::Ask && worth_asking(fine);
         let mut sum = [F8::ZERO; 4];
         for chunk in (0..probes.count).step_by(LANES) {
@@ -222,6 +257,34 @@ mod tests {
                     Footprint { dudx: ratio * size * c, dvdx: ratio * size * sn, dudy: -size * sn, dvdy: size * c };
                 assert_eq!(Probes::of_footprint(&fp, 4096, 4096, 16.0).count, ratio as usize, "{fp:?}");
             }
+        }
+    }
+
+    /// The lane lookups' levels read from the exponent give the bits of the log2's levels, also where the
+    /// log2 rounds up to the next integer (those take the log2's levels).
+    #[test]
+    fn levels_from_the_exponent_give_the_bits_of_the_log2_levels() {
+        let bytes: Vec<[u8; 4]> =
+            (0..64 * 64).map(|k| [(k * 37 % 251) as u8, (k * 91 % 256) as u8, (k * 13 % 199) as u8, 200]).collect();
+        let data = Filterable::new(Rgba8Plane::from_top_rows(64, 64, &bytes, true), MipFilter::Box, [Wrap::Repeat; 2]);
+        let levels = data.levels();
+        let (mut widths, mut rounded_up) = (vec![0.5, 1.0, 1e30], 0);
+        for e in 0..10 {
+            let p = (2.0f32).powi(e);
+            for k in 1..64u32 {
+                let below = f32::from_bits(p.to_bits() - k);
+                rounded_up += (below.log2() == e as f32) as usize;
+                widths.extend([below, f32::from_bits(p.to_bits() + k)]);
+            }
+        }
+        assert!(rounded_up > 0, "no width whose log2 rounds up to the next integer was tried");
+        for (k, &width) in widths.iter().enumerate() {
+            let (level, floor_level) = Probes::levels_of_width(width);
+            let probes = Probes { count: 8, level, floor_level, axis: Vec2::new(0.05, 0.02) };
+            let lookup = AnisoLookup { s: k as f32 * 0.137 % 1.0, t: k as f32 * 0.291 % 1.0, probes };
+            let got = lookup.sum(levels, Prefetch::AlreadyAsked).to_array().map(f32::to_bits);
+            let exact = lookup.sum_on_log2_levels(levels, Prefetch::AlreadyAsked).to_array().map(f32::to_bits);
+            assert_eq!(got, exact, "width {width}");
         }
     }
 
