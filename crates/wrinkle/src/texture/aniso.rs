@@ -244,6 +244,7 @@ impl AnisoLookup {
 mod tests {
     use super::*;
     use crate::texture::mip::MipFilter;
+    use crate::texture::trilinear8::tests::{around_powers_of_two, noise_pyramid};
     use crate::texture::Filterable;
 
     /// An n:1 footprint takes n probes at every angle and size, whatever the rounding in its axes.
@@ -264,20 +265,11 @@ mod tests {
     /// log2 rounds up to the next integer (those take the log2's levels).
     #[test]
     fn levels_from_the_exponent_give_the_bits_of_the_log2_levels() {
-        let bytes: Vec<[u8; 4]> =
-            (0..64 * 64).map(|k| [(k * 37 % 251) as u8, (k * 91 % 256) as u8, (k * 13 % 199) as u8, 200]).collect();
-        let data = Filterable::new(Rgba8Plane::from_top_rows(64, 64, &bytes, true), MipFilter::Box, [Wrap::Repeat; 2]);
+        let data = noise_pyramid();
         let levels = data.levels();
-        let (mut widths, mut rounded_up) = (vec![0.5, 1.0, 1e30], 0);
-        for e in 0..10 {
-            let p = (2.0f32).powi(e);
-            for k in 1..64u32 {
-                let below = f32::from_bits(p.to_bits() - k);
-                rounded_up += (below.log2() == e as f32) as usize;
-                widths.extend([below, f32::from_bits(p.to_bits() + k)]);
-            }
-        }
+        let (mut widths, rounded_up) = around_powers_of_two(0..10, |_| true);
         assert!(rounded_up > 0, "no width whose log2 rounds up to the next integer was tried");
+        widths.extend([0.5, 1e30]);
         for (k, &width) in widths.iter().enumerate() {
             let (level, floor_level) = Probes::levels_of_width(width);
             let probes = Probes { count: 8, level, floor_level, axis: Vec2::new(0.05, 0.02) };

@@ -313,33 +313,49 @@ fn wrapped_pair(k: I8, n: I8) -> (I8, I8) {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::texture::mip::{level_pair, trilinear, LevelRule, MipFilter};
     use crate::texture::reconstruct::Addressing;
     use crate::texture::{Filterable, Wrap};
     use glam::Vec4;
 
-    #[test]
-    fn levels_from_the_exponent_give_the_bits_of_the_log2_levels() {
+    /// A 64 x 64 sRGB texture of noise, as a pyramid of 8-bit levels.
+    pub(in crate::texture) fn noise_pyramid() -> Filterable<Rgba8Plane> {
         let bytes: Vec<[u8; 4]> =
             (0..64 * 64).map(|k| [(k * 37 % 251) as u8, (k * 91 % 256) as u8, (k * 13 % 199) as u8, 200]).collect();
-        let data = Filterable::new(Rgba8Plane::from_top_rows(64, 64, &bytes, true), MipFilter::Box, [Wrap::Repeat; 2]);
-        let levels = data.levels();
-        // Squared lengths at and just around every power of two the levels reach, and beyond the last level.
-        let mut lengths = vec![0.0, 0.5, 1.0, f32::NAN, f32::INFINITY, 1e30];
-        let mut rounded_up = 0;
-        for e in 0..16 {
+        Filterable::new(Rgba8Plane::from_top_rows(64, 64, &bytes, true), MipFilter::Box, [Wrap::Repeat; 2])
+    }
+
+    /// Every power of two 2^e for e in `exponents` and the 63 floats on either side of it, with those below
+    /// whose log2 rounds up to e (the case a level read from the exponent alone would get wrong) for an `e`
+    /// that `counts`.
+    pub(in crate::texture) fn around_powers_of_two(
+        exponents: std::ops::Range<i32>,
+        counts: impl Fn(i32) -> bool,
+    ) -> (Vec<f32>, usize) {
+        let (mut values, mut rounded_up) = (Vec::new(), 0);
+        for e in exponents {
             let p = (2.0f32).powi(e);
             for k in 1..64u32 {
                 let below = f32::from_bits(p.to_bits() - k);
-                // log2 rounding up to the next integer is the case the exponent alone would get wrong.
-                rounded_up += (e % 2 == 1 && below.log2() == e as f32) as usize;
-                lengths.extend([below, f32::from_bits(p.to_bits() + k)]);
+                rounded_up += (counts(e) && below.log2() == e as f32) as usize;
+                values.extend([below, f32::from_bits(p.to_bits() + k)]);
             }
-            lengths.push(p);
+            values.push(p);
         }
+        (values, rounded_up)
+    }
+
+    #[test]
+    fn levels_from_the_exponent_give_the_bits_of_the_log2_levels() {
+        let data = noise_pyramid();
+        let levels = data.levels();
+        // Squared lengths at and just around every power of two the levels reach (half the exponent: an odd
+        // one is one level short if log2 rounds up), and beyond the last level.
+        let (mut lengths, rounded_up) = around_powers_of_two(0..16, |e| e % 2 == 1);
         assert!(rounded_up > 0, "no squared length whose log2 rounds up to the next integer was tried");
+        lengths.extend([0.0, 0.5, f32::NAN, f32::INFINITY, 1e30]);
         for (k, &len2) in lengths.iter().enumerate() {
             let (s, t) = (k as f32 * 0.137 % 1.0, k as f32 * 0.291 % 1.0);
             let got = TrilinearTaps::on_levels(levels, level_pair_from_exponent(len2, levels.len()), s, t).sum();
