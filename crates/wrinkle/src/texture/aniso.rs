@@ -161,12 +161,13 @@ impl AnisoLookup {
             return probe_by_probe(levels, &addr, self.s, self.t, probes);
         }
         // The taps' places wait only on the level read from the exponent; the log2's level gives the
-        // coarser level's share. Where the log2 rounded up to the next integer (the share would be 1), the
-        // lookup is made on the log2's levels instead, so that the bits are theirs.
+        // coarser level's share. Where the log2 rounded up to the next integer (the share would be 1), or
+        // a log2 less exact than libm's fell below the exponent, the lookup is made on the log2's levels
+        // instead, so that the bits are theirs.
         let last = levels.len() - 1;
         let fine = (probes.floor_level as usize).min(last);
         let frac = probes.level.min(last as f32) - fine as f32;
-        if frac >= 1.0 {
+        if !(0.0..1.0).contains(&frac) {
             return self.sum_on_log2_levels(levels, prefetch);
         }
         self.sum_on((&levels[fine], &levels[(fine + 1).min(last)], frac), prefetch)
@@ -267,7 +268,7 @@ mod tests {
     fn levels_from_the_exponent_give_the_bits_of_the_log2_levels() {
         let data = noise_pyramid();
         let levels = data.levels();
-        let (mut widths, rounded_up) = around_powers_of_two(0..10, |_| true);
+        let (mut widths, rounded_up) = around_powers_of_two(0..16, |_| true);
         assert!(rounded_up > 0, "no width whose log2 rounds up to the next integer was tried");
         widths.extend([0.5, 1e30]);
         for (k, &width) in widths.iter().enumerate() {

@@ -137,7 +137,8 @@ impl<'a> TrilinearTaps<'a> {
 /// is half the exponent, rounded down. log2 rounded up to the next integer (len2 just below a power of two,
 /// the exponent odd) gives that level a share of 0 and the coarser one a share of 1, where `level_pair` moves
 /// one level on with shares of 1 and 0: the same texels of the same level with the same weights, summed in the
-/// same order (`sum_lanes` adds the halves' sums, and x + 0 = x), so the same bits.
+/// same order (`sum_lanes` adds the halves' sums, and x + 0 = x), so the same bits. (libm's log2f is never
+/// below the exponent at or above a power of two, as a correctly rounded log2 is not; the tests hold both.)
 #[inline]
 fn level_pair_from_exponent(len2: f32, count: usize) -> (usize, usize, f32) {
     let last = count - 1;
@@ -329,7 +330,7 @@ pub(super) mod tests {
 
     /// Every power of two 2^e for e in `exponents` and the 63 floats on either side of it, with those below
     /// whose log2 rounds up to e (the case a level read from the exponent alone would get wrong) for an `e`
-    /// that `counts`.
+    /// that `counts`. At and above 2^e, log2 is held to be at least e (as the exponent's levels suppose).
     pub(in crate::texture) fn around_powers_of_two(
         exponents: std::ops::Range<i32>,
         counts: impl Fn(i32) -> bool,
@@ -338,10 +339,12 @@ pub(super) mod tests {
         for e in exponents {
             let p = (2.0f32).powi(e);
             for k in 1..64u32 {
-                let below = f32::from_bits(p.to_bits() - k);
+                let (below, above) = (f32::from_bits(p.to_bits() - k), f32::from_bits(p.to_bits() + k));
                 rounded_up += (counts(e) && below.log2() == e as f32) as usize;
-                values.extend([below, f32::from_bits(p.to_bits() + k)]);
+                assert!(above.log2() >= e as f32, "log2({above}) = {} is below {e}", above.log2());
+                values.extend([below, above]);
             }
+            assert_eq!(p.log2(), e as f32);
             values.push(p);
         }
         (values, rounded_up)
@@ -353,7 +356,7 @@ pub(super) mod tests {
         let levels = data.levels();
         // Squared lengths at and just around every power of two the levels reach (half the exponent: an odd
         // one is one level short if log2 rounds up), and beyond the last level.
-        let (mut lengths, rounded_up) = around_powers_of_two(0..16, |e| e % 2 == 1);
+        let (mut lengths, rounded_up) = around_powers_of_two(0..28, |e| e % 2 == 1);
         assert!(rounded_up > 0, "no squared length whose log2 rounds up to the next integer was tried");
         lengths.extend([0.0, 0.5, f32::NAN, f32::INFINITY, 1e30]);
         for (k, &len2) in lengths.iter().enumerate() {
