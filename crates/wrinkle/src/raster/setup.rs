@@ -2,11 +2,11 @@
 //! fill rule, and the screen-space planes that give perspective-correct barycentrics and (u,v) derivatives.
 
 use super::camera::Camera;
-use super::clip::{clip_planes, clip_polygon, inside_all, ClipVertex};
+use super::clip::{clip_planes, clip_polygon, inside_all, inside_all8, ClipVertex};
 use super::exact::{Outline, OUTLINE_MARGIN_PX};
 use super::samples::SamplePattern;
 use super::SUBPIXEL;
-use crate::lanes::{to_bits, CmpEq, CmpGe, CmpLe, F8, I8, LANES, V3};
+use crate::lanes::{to_bits, CmpGe, CmpLe, F8, I8, LANES, V3};
 use crate::stream;
 use glam::{Affine3A, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
@@ -312,10 +312,7 @@ impl<'a> TriangleSetup<'a> {
     /// points and 1/w.
     #[inline(always)]
     fn project8(&self, pos: &V3) -> ([ScreenPoint; LANES], F8) {
-        let distance =
-            |p: &Vec4| F8::splat(p.x) * pos.x + F8::splat(p.y) * pos.y + F8::splat(p.z) * pos.z + F8::splat(p.w);
-        let every_lane = F8::ZERO.cmp_eq(F8::ZERO);
-        let inside = self.planes.iter().fold(every_lane, |all, p| all & distance(p).cmp_ge(F8::ZERO));
+        let inside = inside_all8(&self.planes, pos);
         let (sx, sy, q) = self.camera.project_exact8(pos);
         let (x, y) = (round_to_int(sx * F8::splat(SUBPIXEL as f32)), round_to_int(sy * F8::splat(SUBPIXEL as f32)));
         let outside = I8::splat(i32::MIN);
