@@ -3,6 +3,7 @@
 //! beyond that ratio the level rises so the probes still cover the whole major axis.
 
 use super::ewa::Axes;
+use super::footprint::floor_log2_above_one;
 use super::mip::{level_pair, trilinear};
 use super::reconstruct::Addressing;
 use super::rgba8::Rgba8Plane;
@@ -43,12 +44,7 @@ impl Probes {
 
     /// The level of probes `width` texels wide (log2, 0 below one texel), and its floor from the exponent.
     fn levels_of_width(width: f32) -> (f32, u32) {
-        if width > 1.0 {
-            // A normal number or infinity, its biased exponent in [127, 255] (NaN is not above 1).
-            (width.log2(), (width.to_bits() >> 23) - 127)
-        } else {
-            (0.0, 0)
-        }
+        (if width > 1.0 { width.log2() } else { 0.0 }, floor_log2_above_one(width))
     }
 
     /// Probe `k`'s offset along the axis: the centre of the k-th of `count` equal parts.

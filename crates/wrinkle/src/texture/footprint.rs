@@ -63,6 +63,17 @@ pub fn mip_level_of(len2: f32) -> f32 {
     }
 }
 
+/// floor(log2(x)) for x above 1, read from the exponent's bits (a normal number or infinity: 0 to 128), where
+/// the MIP levels' log2 need not be waited for; 0 at or below 1 and for NaN.
+#[inline]
+pub fn floor_log2_above_one(x: f32) -> u32 {
+    if x > 1.0 {
+        (x.to_bits() >> 23) - 127
+    } else {
+        0
+    }
+}
+
 /// Eight footprints as lanes (structure of arrays): what the rasterizer interpolates and the lane filters read.
 #[derive(Clone, Copy, Debug)]
 pub struct Footprint8 {

@@ -4,7 +4,7 @@
 //! read lane by lane. `trilinear_taps8` serves one lookup, its eight taps (four per level) on the lanes.
 //! Both equal `mip::trilinear` (within f32 rounding).
 
-use super::footprint::mip_level_of;
+use super::footprint::{floor_log2_above_one, mip_level_of};
 use super::rgba8::Rgba8Plane;
 use super::texel::TexelSource;
 use super::{Footprint, Footprint8};
@@ -142,8 +142,7 @@ impl<'a> TrilinearTaps<'a> {
 #[inline]
 fn level_pair_from_exponent(len2: f32, count: usize) -> (usize, usize, f32) {
     let last = count - 1;
-    // len2 > 1 is a normal number or infinity, its biased exponent in [127, 255]; NaN is not.
-    let fine = if len2 > 1.0 { (((len2.to_bits() >> 23) - 127) >> 1).min(last as u32) as usize } else { 0 };
+    let fine = (floor_log2_above_one(len2) >> 1).min(last as u32) as usize;
     let level = mip_level_of(len2).min(last as f32);
     (fine, (fine + 1).min(last), level - fine as f32)
 }
