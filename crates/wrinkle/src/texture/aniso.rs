@@ -267,6 +267,14 @@ mod tests {
         let (mut widths, rounded_up) = around_powers_of_two(0..16, |_| true);
         assert!(rounded_up > 0, "no width whose log2 rounds up to the next integer was tried");
         widths.extend([0.5, 1e30]);
+        // Only the widths whose log2 rounds up take the log2's levels: a wrong floor would take them all
+        // there (the same bits, but not the exponent's levels this test is about).
+        let fallbacks = widths
+            .iter()
+            .map(|&w| Probes::levels_of_width(w))
+            .filter(|&(level, floor)| !(0.0..1.0).contains(&(level - floor as f32)))
+            .count();
+        assert_eq!(fallbacks, rounded_up, "widths whose exponent's level is not the log2's floor");
         for (k, &width) in widths.iter().enumerate() {
             let (level, floor_level) = Probes::levels_of_width(width);
             let probes = Probes { count: 8, level, floor_level, axis: Vec2::new(0.05, 0.02) };
