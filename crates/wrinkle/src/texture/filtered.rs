@@ -304,3 +304,41 @@ impl Texture for FilteredTexture {
         Some(Arc::new(FilteredTexture::with_lookup(self, options.filter, options.lod_bias)))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// NaN, infinite and huge coordinates and footprints, through every filter, wrap and storage, one lookup
+    /// a call and in batches: each returns (whatever it returns) and none reads outside its texture.
+    #[test]
+    fn non_finite_lookups_return_without_a_panic() {
+        let bytes: Vec<[u8; 4]> = (0..40 * 24).map(|k| [(k * 37 % 251) as u8, (k % 256) as u8, 9, 200]).collect();
+        let image = Image { width: 40, height: 24, pixels: bytes };
+        let floats =
+            Image { width: 40, height: 24, pixels: image.pixels.iter().map(|p| p.map(|c| c as f32 / 255.0)).collect() };
+        let odd = [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 1e30, -1e30, 3.0e9, -1e-12, 0.5];
+        let sizes = [f32::NAN, f32::INFINITY, 0.0, 1e30, 1e-30, 0.03, 2.0, -0.5];
+        let coords: Vec<Vec2> = (0..odd.len() * odd.len()).map(|k| Vec2::new(odd[k % 8], odd[k / 8])).collect();
+        let footprints: Vec<Footprint> = (0..coords.len())
+            .map(|k| {
+                let (w, r) = (sizes[k % 8], sizes[(k / 8 + 5) % 8]);
+                Footprint { dudx: w, dvdx: r * w, dudy: -r, dvdy: w }
+            })
+            .collect();
+        for &(_, filter) in Filter::ALL.iter() {
+            for wrap in [Wrap::Repeat, Wrap::Clamp, Wrap::Mirror, Wrap::Border] {
+                let filter = FilterOptions { filter, max_aniso: 8.0, ..FilterOptions::default() };
+                let options = TextureOptions { wrap: [wrap; 2], filter, ..TextureOptions::default() };
+                for tex in [FilteredTexture::from_rgba8(&image, true, options), FilteredTexture::new(&floats, options)]
+                {
+                    let mut out = vec![Vec4::ZERO; coords.len()];
+                    tex.lookup_batch(&coords, &footprints, &mut out);
+                    for (p, f) in coords.iter().zip(&footprints) {
+                        tex.lookup(p.x, p.y, f);
+                    }
+                }
+            }
+        }
+    }
+}

@@ -241,9 +241,10 @@ impl Rgba8Plane {
     }
 
     /// The texel at storage index `index` (see `row_part8`) as one word: R in the low byte, A in the high.
+    /// An index outside the plane reads its nearest end, as the gathers do (a NaN coordinate gives one).
     #[inline]
-    pub fn word(&self, index: usize) -> u32 {
-        u32::from_le_bytes(self.texels()[index])
+    pub fn word(&self, index: i32) -> u32 {
+        u32::from_le_bytes(self.texels()[index.clamp(0, self.last) as usize])
     }
 
     /// The texels at storage indices `index` (see `row_part8`), decoded to channel lanes. An index
@@ -378,7 +379,7 @@ mod tests {
                 assert_eq!(plane.texel(i, j), Vec4::from(want.map(|b| b as f32 / 255.0)), "({i}, {j})");
                 let index =
                     Rgba8Plane::row_part8(I8::splat(j as i32), blocks) + Rgba8Plane::column_part8(I8::splat(i as i32));
-                assert_eq!(plane.word(index.as_array_ref()[0] as usize), u32::from_le_bytes(want));
+                assert_eq!(plane.word(index.as_array_ref()[0]), u32::from_le_bytes(want));
             }
         }
         // A prefetch is a hint: outside the plane it does nothing (and does not panic).
@@ -443,7 +444,7 @@ mod tests {
         let want = [0, 3, last_low, last_low, 0, 7, last_high, last_high]
             .iter()
             .enumerate()
-            .map(|(l, &k)| if l < 4 { low.word(k as usize) } else { high.word(k as usize) })
+            .map(|(l, &k)| if l < 4 { low.word(k) } else { high.word(k) })
             .collect::<Vec<_>>();
         for (l, w) in want.iter().enumerate() {
             let (tag, alpha) = ((w >> 8) & 0xFF, (w >> 24) as f32 / 255.0);

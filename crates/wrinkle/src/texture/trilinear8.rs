@@ -219,7 +219,7 @@ impl LaneTexels for LevelPerLane<'_> {
         let index = index.as_array_ref();
         let mut words = [0i32; LANES];
         for l in 0..LANES {
-            words[l] = self.0[l].word(index[l] as usize) as i32;
+            words[l] = self.0[l].word(index[l]) as i32;
         }
         // The levels of one texture share its decoding.
         self.0[0].decode8(I8::new(words))
@@ -394,6 +394,33 @@ pub(super) mod tests {
                 let g = got[c].as_array_ref()[i];
                 assert!((g - want[c]).abs() < 2e-5, "lane {i} channel {c}: {g} vs {}", want[c]);
                 assert!((one[c] - want[c]).abs() < 2e-5, "one lookup {i} channel {c}: {} vs {}", one[c], want[c]);
+            }
+        }
+    }
+
+    /// Coordinates and footprints that are NaN, infinite or huge, on lanes whose levels differ (the lane-by-lane
+    /// path) and on one level: every lookup reads inside the texture and returns without a panic.
+    #[test]
+    fn non_finite_coordinates_read_inside_the_texture() {
+        let data = noise_pyramid();
+        let levels = data.levels();
+        let odd = [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, 1e30, -1e30, 3.0e9, -0.0, 1.0];
+        for sizes in
+            [[0.5, 3.0, 9.0, 20.0, 0.1, 2.0, 40.0, 1.0], [2.0; LANES], [f32::NAN; LANES], [f32::INFINITY; LANES]]
+        {
+            for k in 0..LANES {
+                let s = F8::new(std::array::from_fn(|l| odd[(l + k) % LANES]));
+                let t = F8::new(std::array::from_fn(|l| odd[(l + 2 * k + 1) % LANES]));
+                let fp = Footprint8::from_lanes(&sizes.map(|w| Footprint {
+                    dudx: w / 64.0,
+                    dvdx: 0.0,
+                    dudy: 0.0,
+                    dvdy: w / 64.0,
+                }));
+                trilinear8(levels, s, t, &fp);
+                for l in 0..LANES {
+                    trilinear_taps8(levels, s.as_array_ref()[l], t.as_array_ref()[l], &fp.lane(l));
+                }
             }
         }
     }
