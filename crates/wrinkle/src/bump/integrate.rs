@@ -62,6 +62,9 @@ pub fn settle_heights(heights: &mut [f32], normalize: bool) -> f32 {
 /// squares sense. `p` is dh/dx with x to the right, `q` is dh/dy with y down the rows, both per pixel,
 /// row 0 at the top, `width * height` values each.
 pub fn frankot_chellappa(p: &[f32], q: &[f32], width: usize, height: usize, wrap: bool) -> Vec<f32> {
+    if width == 0 || height == 0 {
+        return Vec::new();
+    }
     let (fw, fh) = field_size(width, height, wrap);
     // z = p + i q over the (mirrored) field.
     let mut field = vec![Complex32::new(0.0, 0.0); fw * fh];

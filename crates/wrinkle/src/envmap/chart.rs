@@ -118,7 +118,8 @@ impl Layout {
         }
     }
 
-    /// The unit direction at (s, t) of image `image`; `None` outside the sphere map's or a paraboloid's disc.
+    /// The unit direction at (s, t) of image `image`; `None` outside the sphere map's or a paraboloid's disc,
+    /// and for an image the layout does not have.
     pub fn direction(self, image: usize, s: f32, t: f32) -> Option<Vec3> {
         match self {
             Layout::LatLong => {
@@ -126,7 +127,7 @@ impl Layout {
                 Some(Vec3::new(polar.sin() * phi.sin(), polar.cos(), -polar.sin() * phi.cos()))
             }
             Layout::Cube => {
-                let (ma, sc, up) = Face::ALL[image].axes();
+                let (ma, sc, up) = Face::ALL.get(image)?.axes();
                 Some((ma + (2.0 * s - 1.0) * sc + (2.0 * t - 1.0) * up).normalize())
             }
             Layout::Sphere => {

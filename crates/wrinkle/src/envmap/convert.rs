@@ -16,6 +16,9 @@ pub fn convert(env: &Environment, to: Layout, size: usize) -> Vec<Image<[f32; 4]
     (0..to.images())
         .map(|image| {
             let mut pixels = vec![[0.0f32; 4]; w * h];
+            if w == 0 {
+                return Image { width: w, height: h, pixels };
+            }
             pixels.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
                 let t = 1.0 - (y as f32 + 0.5) / h as f32;
                 for (x, texel) in row.iter_mut().enumerate() {

@@ -100,7 +100,9 @@ impl Environment {
     /// kept with the environment.
     pub fn lobe(&self, s: f32) -> Arc<Environment> {
         let mut lobes = self.lobes.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-        if let Some((_, made)) = lobes.iter().find(|(e, _)| *e == s) {
+        // By bits, so that a NaN exponent finds its own lobe too (NaN equals nothing) instead of adding one
+        // each call.
+        if let Some((_, made)) = lobes.iter().find(|(e, _)| e.to_bits() == s.to_bits()) {
             return Arc::clone(made);
         }
         let made = Arc::new(lobe::convolve(self, s));
@@ -166,6 +168,9 @@ fn check_images(layout: Layout, images: &[Image<[f32; 4]>]) -> Result<(), String
         return Err(format!("a {} map has {want} image(s), got {}", layout.name(), images.len()));
     }
     let (w, h) = (images[0].width, images[0].height);
+    if w == 0 || h == 0 {
+        return Err(format!("a {} map's images are empty ({w}x{h})", layout.name()));
+    }
     let shape_ok = match layout {
         Layout::LatLong => w == 2 * h,
         _ => w == h,

@@ -72,6 +72,9 @@ pub fn filter_rows_in_memory<'a, T: Copy + Send + Sync>(
     let image = image.into();
     let (width, height) = (image.width(), image.height());
     let mut out = Image::new(width, height, fill);
+    if width == 0 || height == 0 {
+        return out;
+    }
     let padded: Vec<Vec<f32>> = image
         .pixels()
         .chunks_exact(width)

@@ -16,6 +16,9 @@ pub fn bake(pattern: &Pattern, width: usize, height: usize) -> Image<f32> {
 /// The rows from `first` down of a `width` x `height` bake, as many as `out` holds (whole rows), in
 /// parallel: a band of the image, so that a large one can be written without being held whole.
 pub fn bake_rows(pattern: &Pattern, width: usize, height: usize, first: usize, out: &mut [f32]) {
+    if width == 0 {
+        return;
+    }
     let (du, dv) = (1.0 / width as f32, 1.0 / height as f32);
     let footprint = du.max(dv);
     out.par_chunks_mut(width).enumerate().for_each(|(k, row)| {

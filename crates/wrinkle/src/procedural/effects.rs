@@ -410,6 +410,8 @@ fn bricks(q: [f32; 3], w: f32, mortar: f32) -> NoiseD {
 pub fn spline(colors: &[[f32; 3]], t: f32) -> [f32; 3] {
     let n = colors.len();
     match n {
+        // No colours: black (a scene always gives at least one).
+        0 => return [0.0; 3],
         1 => return colors[0],
         // Two colours: a straight blend (the spline's clamped end tangents would bend it).
         2 => return std::array::from_fn(|c| colors[0][c] + t.clamp(0.0, 1.0) * (colors[1][c] - colors[0][c])),

@@ -73,6 +73,10 @@ impl Modulation {
     }
 }
 
+/// The most steps a ray takes through the volume: 65536 steps of the default 0.01 span a volume 650 units
+/// across.
+pub const MAX_MARCH_STEPS: usize = 1 << 16;
+
 impl Hypertexture {
     /// H and its gradient at the world point `x`.
     pub fn eval(&self, x: Vec3) -> NoiseD {
@@ -168,7 +172,9 @@ impl Hypertexture {
         if end <= t0 {
             return behind;
         }
-        let steps = ((end - t0) / self.step).ceil().max(1.0);
+        // At most `MAX_MARCH_STEPS`: a step far below the volume's size (or of 0) widens, rather than march
+        // for ever.
+        let steps = ((end - t0) / self.step).ceil().clamp(1.0, MAX_MARCH_STEPS as f32);
         let dt = (end - t0) / steps;
         let (mut color, mut transmit) = (Vec3::ZERO, 1.0f32);
         let lit = matches!(self.shading, Shading::Lit { .. });

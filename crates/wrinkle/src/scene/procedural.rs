@@ -192,7 +192,8 @@ fn parse_modulation(path: &str, v: &Value) -> Result<Modulation> {
             let octaves = if kind == "noise" { 1 } else { f.integer_where("octaves", 5, 1, 24)? as u32 };
             Ok(Modulation::noise(
                 sum,
-                f.number_or("amplitude", 0.5)?,
+                // H is clamped to [0, 1]: a larger amplitude only pushes the volume's bound (and its march) out.
+                f.number_where("amplitude", Some(0.5), |x| x.abs() <= 16.0, "an amplitude between -16 and 16")?,
                 f.number_where("frequency", Some(2.0), |x| x > 0.0, "a positive frequency")?,
                 octaves,
                 f.integer_where("seed", 0, 0, u32::MAX as usize)? as u64,

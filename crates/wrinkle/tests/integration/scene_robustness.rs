@@ -84,6 +84,10 @@ fn volume_fields_of_the_other_shading_are_errors() {
         modulated("kind = \"bias\"\nvalue = 0.3\namplitude = 0.5"),
         "volumes[0].modulate[0].amplitude: not a field of kind \"bias\" (it has: value)"
     );
+    // An amplitude far beyond H's [0, 1] only pushed the volume's bound out: billions of march steps a ray.
+    let amplitude = modulated("kind = \"turbulence\"\namplitude = -3e9");
+    assert!(amplitude.starts_with("volumes[0].modulate[0].amplitude: "), "{amplitude}");
+    assert!(amplitude.contains("between -16 and 16"), "{amplitude}");
     // What each one does take still parses.
     parses(&format!("{volume}shading = \"emissive\"\nemission = 3.0\ncolors = [[1.0, 0.5, 0.0]]\n"));
     parses(&format!("{volume}color = [1.0, 1.0, 1.0]\n[[volume.modulate]]\nkind = \"fbm\"\noctaves = 4\n"));
