@@ -1064,9 +1064,8 @@ impl<'a> TileJob<'a> {
         // Each of the spp stratified samples stands for its own 1/spp of the pixel: the texture filters
         // integrate over that cell, not the whole pixel again.
         let triangles = tris.map(|t| t.triangle);
-        // Each primitive's frame stays where it was made; the shader borrows it. A mesh's sample (1.7 KB)
-        // is a local of its arm: made outside the arm and assigned in it, it was made elsewhere and copied in.
-        let parametric;
+        // Each primitive's frame stays where it was made; the shader borrows it (one call site, no copies).
+        let (parametric, mesh_sample);
         let samples = match &inst.primitive {
             Primitive::Parametric(surface) => {
                 let at = interpolate8(&tris, sx, sy);
@@ -1108,18 +1107,18 @@ impl<'a> TileJob<'a> {
                 let local = triangles.map(|t| t - first);
                 let rays = self.camera.rays8(sx, sy, self.sample_cell).transformed(&inst.camera_to_object);
                 let second_set = self.shade.needs[inst.material].second_uv;
-                let m = mesh_lanes::sample8(mesh, &local, &rays, second_set);
+                mesh_sample = mesh_lanes::sample8(mesh, &local, &rays, second_set);
+                let m = &mesh_sample;
                 let (uv, footprint) =
                     self.texel_location.locate8(&rays, m.frame.p, m.frame.pu, m.frame.pv, m.uv, m.footprint);
-                let samples = SurfaceSamples8 {
+                SurfaceSamples8 {
                     frame: &m.frame,
                     uv,
                     footprint,
                     uv1: m.uv1.as_ref(),
                     triangles,
-                    mesh: Some(&m.orientation),
-                };
-                return then(inst, &samples);
+                    mesh: Some(m.orientation),
+                }
             }
         };
         then(inst, &samples)
