@@ -455,40 +455,54 @@ fn pattern_row_non_finite_arguments() {
     black_box(out);
 }
 
+/// Ways to put a bad number into a pattern's float parameters: each field alone, and all of them at once.
+const PARAM_SETTERS: [fn(&mut Params, f32); 10] = [
+    |p, b| p.scale = b,
+    |p, b| p.octaves.lacunarity = b,
+    |p, b| p.octaves.gain = b,
+    |p, b| p.strength = b,
+    |p, b| p.rings = b,
+    |p, b| p.time = b,
+    |p, b| p.mortar = b,
+    |p, b| p.line_width = b,
+    |p, b| p.colors.iter_mut().for_each(|c| c[0] = b),
+    |p, b| {
+        p.scale = b;
+        p.strength = b;
+        p.rings = b;
+        p.time = b;
+        p.mortar = b;
+        p.line_width = b;
+    },
+];
+
+/// A pattern's value with derivatives, colour and a row of values.
+fn exercise(p: &Pattern, footprint: f32, out: &mut [f32]) {
+    black_box(p.eval_d([0.3, 0.6, 0.9], 0.01));
+    black_box(p.color([0.3, 0.6, 0.9], 0.0));
+    p.row(0.0, 0.05, 0.5, footprint, out);
+}
+
 /// Each parameter bad in turn: `Pattern::new` should refuse it (an `Err`, no panic); what it accepts is
 /// evaluated.
 #[test]
 fn pattern_new_non_finite_parameters() {
-    type SetParam = Box<dyn Fn(&mut Params, f32)>;
-    let mut variants: Vec<SetParam> = vec![
-        Box::new(|p, b| p.scale = b),
-        Box::new(|p, b| p.octaves.lacunarity = b),
-        Box::new(|p, b| p.octaves.gain = b),
-        Box::new(|p, b| p.strength = b),
-        Box::new(|p, b| p.rings = b),
-        Box::new(|p, b| p.time = b),
-        Box::new(|p, b| p.mortar = b),
-        Box::new(|p, b| p.line_width = b),
-        Box::new(|p, b| p.colors[0][1] = b),
-    ];
-    variants.push(Box::new(|p, b| p.octaves.count = if b.is_nan() { 0 } else { b.abs().min(4e9) as u32 }));
     let mut out = vec![0.0; 20];
+    // And a count of octaves from the bad number (which `new` must refuse beyond its limit).
+    let count: fn(&mut Params, f32) = |p, b| p.octaves.count = if b.is_nan() { 0 } else { b.abs().min(4e9) as u32 };
     for kind in Kind::ALL {
-        for set in &variants {
+        for set in PARAM_SETTERS.into_iter().chain([count]) {
             for b in BAD {
                 for (dims, tile) in [(2, false), (3, false), (2, true)] {
                     let mut params = Params::new(kind);
                     set(&mut params, b);
                     if let Ok(p) = Pattern::new(params, dims, tile) {
-                        black_box(p.eval_d([0.3, 0.6, 0.9], 0.01));
-                        black_box(p.color([0.3, 0.6, 0.9], 0.0));
-                        p.row(0.0, 0.05, 0.5, 0.05, &mut out);
+                        exercise(&p, 0.05, &mut out);
                     }
                 }
             }
         }
     }
-    black_box(out);
 }
 
 /// `Pattern::params` is public: bad numbers written into a validated pattern.
@@ -498,34 +512,14 @@ fn pattern_params_set_non_finite_after_validation() {
     for dims in [2, 3] {
         for base in patterns(dims) {
             for b in BAD {
-                let setters: [fn(&mut Params, f32); 8] = [
-                    |p, b| p.scale = b,
-                    |p, b| p.strength = b,
-                    |p, b| p.rings = b,
-                    |p, b| p.time = b,
-                    |p, b| p.mortar = b,
-                    |p, b| p.line_width = b,
-                    |p, b| p.colors.iter_mut().for_each(|c| c[0] = b),
-                    |p, b| {
-                        p.scale = b;
-                        p.strength = b;
-                        p.rings = b;
-                        p.time = b;
-                        p.mortar = b;
-                        p.line_width = b;
-                    },
-                ];
-                for set in setters {
+                for set in PARAM_SETTERS {
                     let mut p = base.clone();
                     set(&mut p.params, b);
-                    black_box(p.eval_d([0.3, 0.6, 0.9], 0.01));
-                    black_box(p.color([0.3, 0.6, 0.9], 0.0));
-                    p.row(0.0, 0.05, 0.5, 0.001, &mut out);
+                    exercise(&p, 0.001, &mut out);
                 }
             }
         }
     }
-    black_box(out);
 }
 
 /// `Pattern::params` is public: a validated pattern whose colour list is emptied.
