@@ -591,13 +591,7 @@ fn bad_footprint8s() -> Vec<Footprint8> {
 
 fn bad_contexts() -> Vec<LookupContext> {
     let mut v = Vec::new();
-    let base = LookupContext::on_surface(
-        Vec3::new(0.3, 0.2, 0.9),
-        Vec3::X,
-        Vec3::Y,
-        Vec2::new(0.4, 0.6),
-        Footprint { dudx: 0.01, dvdx: 0.0, dudy: 0.0, dvdy: 0.01 },
-    );
+    let base = base_context();
     v.push(base);
     v.push(LookupContext::default());
     for d in bad_vecs() {
@@ -608,6 +602,16 @@ fn bad_contexts() -> Vec<LookupContext> {
         v.push(LookupContext { dndx: d, dndy: d, ..base });
         v.push(LookupContext { p: d, n: d, dpdx: d, dpdy: d, dpdu: d, dpdv: d, dndx: d, dndy: d, ..base });
     }
+    v.extend(bad_uv_contexts(base));
+    for object_to_eye in bad_affines() {
+        v.push(LookupContext { object_to_eye, ..base });
+    }
+    v
+}
+
+/// `base` with bad texture coordinates (set 0 and set 1) and bad footprints.
+fn bad_uv_contexts(base: LookupContext) -> Vec<LookupContext> {
+    let mut v = Vec::new();
     for b in BAD {
         v.push(LookupContext { uv: Vec2::splat(b), ..base });
         v.push(LookupContext { uv: Vec2::new(b, 0.5), ..base });
@@ -622,9 +626,6 @@ fn bad_contexts() -> Vec<LookupContext> {
     }
     for footprint in bad_footprints() {
         v.push(LookupContext { footprint, ..base });
-    }
-    for object_to_eye in bad_affines() {
-        v.push(LookupContext { object_to_eye, ..base });
     }
     v
 }
@@ -1281,23 +1282,7 @@ fn mapping_non_finite_normal_changes() {
 
 #[test]
 fn mapping_non_finite_uv_and_footprints() {
-    let base = base_context();
-    let mut contexts = Vec::new();
-    for b in BAD {
-        contexts.push(LookupContext { uv: Vec2::splat(b), ..base });
-        contexts.push(LookupContext {
-            uv1: UvSet {
-                uv: Vec2::splat(b),
-                footprint: Footprint { dudx: b, dvdx: b, dudy: b, dvdy: b },
-                jacobian: [Vec2::splat(b); 2],
-            },
-            ..base
-        });
-    }
-    for footprint in bad_footprints() {
-        contexts.push(LookupContext { footprint, ..base });
-    }
-    check_mapping_contexts(&contexts);
+    check_mapping_contexts(&bad_uv_contexts(base_context()));
 }
 
 #[test]
