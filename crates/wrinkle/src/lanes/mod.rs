@@ -40,6 +40,25 @@ pub fn gather(values: &[f32], index: I8) -> F8 {
     unsafe { gather_unchecked(values, index) }
 }
 
+/// `values[index]` per lane, of 32-bit integers. An index outside the slice reads its nearest end instead,
+/// never memory outside.
+#[inline]
+pub fn gather_i32(values: &[i32], index: I8) -> I8 {
+    let index = clamp_index(index, values.len());
+    #[cfg(all(target_arch = "x86_64", target_feature = "avx2"))]
+    // SAFETY: AVX2 is enabled at compile time and every index is inside `values` (clamped above); `I8` and
+    // `__m256i` are both eight i32, so the transmutes only rename.
+    unsafe {
+        use std::arch::x86_64::*;
+        std::mem::transmute::<__m256i, I8>(_mm256_i32gather_epi32::<4>(
+            values.as_ptr(),
+            std::mem::transmute::<I8, __m256i>(index),
+        ))
+    }
+    #[cfg(not(all(target_arch = "x86_64", target_feature = "avx2")))]
+    I8::new(index.to_array().map(|k| values[k as usize]))
+}
+
 /// `values[index]` per lane, for indices known to be inside (a byte into a 256-entry table, say), without
 /// `gather`'s clamp.
 ///
@@ -368,6 +387,13 @@ mod tests {
         let got = gather_bytes4(&bytes, I8::new([0, 1, 6, 5, 9, -3, 2, 100])).to_array();
         let word = |k: usize| i32::from_le_bytes([bytes[k], bytes[k + 1], bytes[k + 2], bytes[k + 3]]);
         assert_eq!(got, [word(0), word(1), word(6), word(5), word(6), word(0), word(2), word(6)]);
+    }
+
+    #[test]
+    fn integer_gathers_read_inside_the_slice() {
+        let values = [5, -7, i32::MIN, 9, i32::MAX];
+        let got = gather_i32(&values, I8::new([4, 0, 2, 1, -1, 5, i32::MIN, 3])).to_array();
+        assert_eq!(got, [i32::MAX, 5, i32::MIN, -7, 5, i32::MAX, 5, 9]);
     }
 
     #[test]

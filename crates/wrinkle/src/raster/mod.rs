@@ -3,6 +3,7 @@
 
 pub mod camera;
 pub mod clip;
+mod cull_lanes;
 pub mod exact;
 pub mod refine;
 pub mod samples;

@@ -3,6 +3,7 @@
 
 use super::camera::Camera;
 use super::clip::{clip_planes, clip_polygon, inside_all, inside_all8, ClipVertex};
+use super::cull_lanes::LaneCull;
 use super::exact::{Outline, OUTLINE_MARGIN_PX};
 use super::samples::SamplePattern;
 use super::SUBPIXEL;
@@ -343,12 +344,40 @@ impl<'a> TriangleSetup<'a> {
     /// How many triangles of a projected mesh the setup keeps (clipped pieces counted one by one), and
     /// which of the mesh's triangles give any.
     pub fn count_triangles(&mut self, mesh: ProjectedMesh) -> Counted {
-        let mut counted = Counted { count: 0, kept: vec![0; mesh.triangles.len().div_ceil(64)] };
-        self.each_kept(mesh, 0..mesh.triangles.len(), false, |_, _, _, k| {
+        let n = mesh.triangles.len();
+        let mut counted = Counted { count: 0, kept: vec![0; n.div_ceil(64)] };
+        // Eight at a time on lanes where they decide exactly; the rest, and the tail, one by one.
+        let screen = mesh.vertices.screen.as_flattened();
+        let lanes = (screen.len() <= i32::MAX as usize).then(|| self.lane_cull(mesh.cull)).flatten();
+        let whole = if lanes.is_some() { n / LANES * LANES } else { 0 };
+        let mut rest = Vec::new();
+        if let Some(lanes) = &lanes {
+            for start in (0..whole).step_by(LANES) {
+                let (x, y) = LaneCull::corners(screen, &mesh.triangles[start..start + LANES]);
+                let (mut kept, mut unsure) = lanes.keep8(x, y);
+                // Along an outline the box widens by a margin: those are left to `keep`.
+                if let Some(outline) = mesh.outline {
+                    let along = outline[start..start + LANES].iter().enumerate();
+                    let along = along.fold(0, |bits, (l, &o)| bits | u32::from(o != Outline::Inside) << l);
+                    (kept, unsure) = (kept & !along, unsure | along);
+                }
+                counted.kept[start / 64] |= u64::from(kept) << (start % 64);
+                counted.count += kept.count_ones() as usize;
+                rest.extend(set_bits(&[u64::from(unsure)]).map(|l| start + l));
+            }
+        }
+        self.each_kept(mesh, rest.into_iter().chain(whole..n), false, |_, _, _, k| {
             counted.kept[k / 64] |= 1 << (k % 64);
             counted.count += 1;
         });
         counted
+    }
+
+    /// The lanes' count for this setup's screen and samples, and `cull`; none where the samples span too
+    /// far for them.
+    fn lane_cull(&self, cull: Cull) -> Option<LaneCull> {
+        let size = [self.camera.width as i64, self.camera.height as i64];
+        LaneCull::new(self.samples.axes, self.samples.shared, size, cull)
     }
 
     /// Writes into `out` the triangles of a projected mesh set up, which `count_triangles` counted to
@@ -583,7 +612,7 @@ fn set_bits(words: &[u64]) -> impl Iterator<Item = usize> + '_ {
 
 /// The most samples (pixels of its box times samples a pixel) a triangle's setup tests for coverage: more
 /// are left to the rasterizer, which walks them anyway.
-const TESTED_IN_SETUP: i64 = 4;
+pub(super) const TESTED_IN_SETUP: i64 = 4;
 
 /// The edge functions E = A x + B y + C of a triangle with positive area (fixed point), E >= 0 inside, with
 /// the fill rule in C: a sample exactly on an edge belongs to the triangle for which (A, B) points "right or
@@ -715,6 +744,95 @@ mod tests {
                 assert_eq!(projected.screen[k], point, "vertex {k}");
             }
             assert!(outside > 10 && outside < positions.len() - 10, "{outside} outside");
+        }
+    }
+
+    /// The count on lanes keeps exactly the triangles `keep` keeps one by one: tiny, small, large and
+    /// degenerate triangles, some behind the eye or beyond the frustum, both facings, outline triangles,
+    /// every cull, in perspective and orthographically, for samples the lanes test (one, two and four a
+    /// pixel), samples beyond their test (sixteen), each pixel's own (Sobol) and a wide pixel filter.
+    #[test]
+    fn lanes_count_the_triangles_keep_keeps() {
+        use super::super::camera::Projection;
+        use super::super::samples::{PixelFilter, Sampler};
+        let mut seed = 0x2545_f491_u32;
+        let mut random = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed as f32 / u32::MAX as f32
+        };
+        // Triangles about a random point, of a random size from a hundredth of a pixel to 200 pixels (on
+        // this screen about 100 pixels a unit at the origin), their corners shared now and then.
+        let mut positions = Vec::new();
+        let mut triangles = Vec::new();
+        for t in 0..6000u32 {
+            let centre = Vec3::new(random() * 8.0 - 4.0, random() * 4.5 - 2.25, random() * 7.0 - 4.5);
+            let size = 10f32.powf(random() * 4.3 - 4.0);
+            let base = positions.len() as u32;
+            for _ in 0..3 {
+                let corner = Vec3::new(random() - 0.5, random() - 0.5, random() - 0.5);
+                positions.push(centre + corner * size);
+            }
+            triangles.push(match t % 11 {
+                // A corner of the last triangle's, or a corner twice (no area).
+                5 if t > 0 => [base - 1, base, base + 1],
+                7 => [base, base + 1, base],
+                _ => [base, base + 1, base + 2],
+            });
+        }
+        let outline: Vec<Outline> = (0..triangles.len())
+            .map(|k| [Outline::Inside, Outline::Inside, Outline::Inside, Outline::Edge, Outline::Fold][k % 5])
+            .collect();
+        let patterns = [
+            SamplePattern::centre(),
+            SamplePattern::new(2, Sampler::Stratified, PixelFilter::default()).unwrap(),
+            SamplePattern::new(4, Sampler::Stratified, PixelFilter::default()).unwrap(),
+            SamplePattern::new(16, Sampler::Stratified, PixelFilter::default()).unwrap(),
+            SamplePattern::new(4, Sampler::Sobol, PixelFilter::default()).unwrap(),
+            SamplePattern::new(4, Sampler::Stratified, PixelFilter::Gaussian { radius: 1.5, sigma: 0.5 }).unwrap(),
+        ];
+        let culls = [Cull::Nothing, Cull::FacingAway { mirrored: false }, Cull::FacingAway { mirrored: true }];
+        for projection in [Projection::Perspective { fov_y: 50.0 }, Projection::Orthographic { height: 4.5 }] {
+            let camera = Camera::new(Vec3::new(0.0, 0.0, 4.0), Vec3::ZERO, Vec3::Y, projection, 640, 360);
+            for pattern in &patterns {
+                let mut setup = TriangleSetup::new(&camera, pattern);
+                assert!(setup.lane_cull(Cull::Nothing).is_some(), "the lanes count for {:?}", pattern.count());
+                let vertices = setup.project_vertices(&positions, None, &camera.world_to_camera);
+                for cull in culls {
+                    for outline in [None, Some(&outline[..])] {
+                        let mesh = ProjectedMesh {
+                            vertices: &vertices,
+                            triangles: &triangles,
+                            surface: 0,
+                            first: 0,
+                            cull,
+                            outline,
+                        };
+                        let mut one_by_one = Counted { count: 0, kept: vec![0; triangles.len().div_ceil(64)] };
+                        setup.each_kept(mesh, 0..triangles.len(), false, |_, _, _, k| {
+                            one_by_one.kept[k / 64] |= 1 << (k % 64);
+                            one_by_one.count += 1;
+                        });
+                        let on_lanes = setup.count_triangles(mesh);
+                        assert_eq!(on_lanes.count, one_by_one.count, "{} spp, {cull:?}", pattern.count());
+                        assert!(on_lanes.kept == one_by_one.kept, "{} spp, {cull:?}: other triangles", pattern.count());
+                        let kept = set_bits(&one_by_one.kept).count();
+                        assert!(kept > 500 && kept < 5700, "{kept} of 6000 kept");
+                    }
+                    // The lanes decide most triangles themselves.
+                    let lanes = setup.lane_cull(cull).unwrap();
+                    let screen = vertices.screen.as_flattened();
+                    let left: u32 = triangles
+                        .chunks_exact(LANES)
+                        .map(|eight| {
+                            let (x, y) = LaneCull::corners(screen, eight);
+                            lanes.keep8(x, y).1.count_ones()
+                        })
+                        .sum();
+                    assert!(left > 100 && left < 1500, "{left} of 6000 left to keep");
+                }
+            }
         }
     }
 
