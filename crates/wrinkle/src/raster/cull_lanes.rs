@@ -6,7 +6,7 @@
 
 use super::setup::{Cull, TESTED_IN_SETUP};
 use super::SUBPIXEL_BITS;
-use crate::lanes::{gather_i32, CmpEq, CmpGt, CmpLt, I8, LANES};
+use crate::lanes::{gather_i32, permute, CmpEq, CmpGt, CmpLt, I8};
 
 /// The most a triangle decided on lanes spans on each axis, in 1/SUBPIXEL pixel (64 pixels): its edge
 /// functions' slopes are within it, and their products with a sample's distance from a corner fit 32 bits.
@@ -67,13 +67,15 @@ impl LaneCull {
     /// `screen`, a point's x and y one after the other).
     #[inline(always)]
     pub(super) fn corners(screen: &[i32], triangles: &[[u32; 3]]) -> ([I8; 3], [I8; 3]) {
-        debug_assert_eq!(triangles.len(), LANES);
-        // SAFETY: u32 and i32 have the same size and alignment and share every bit pattern; the eight
-        // triangles' 24 indices lie one after the other.
-        let indices: &[i32] = unsafe { std::slice::from_raw_parts(triangles.as_ptr().cast(), 3 * LANES) };
-        let first = I8::new(std::array::from_fn(|l| 3 * l as i32));
-        let vertex = |c: i32| {
-            let v = gather_i32(indices, first + I8::splat(c));
+        // The 24 indices are three vectors' worth; corner c of triangle l is index 3 l + c, lane (3 l + c) % 8
+        // of vector (3 l + c) / 8: moved by a shuffle, not gathered.
+        let indices = triangles.as_flattened();
+        let words: [I8; 3] = std::array::from_fn(|k| I8::new(std::array::from_fn(|l| indices[8 * k + l] as i32)));
+        let vertex = |c: usize| {
+            let lane = I8::new(std::array::from_fn(|l| ((3 * l + c) % 8) as i32));
+            let word = |k: usize| I8::new(std::array::from_fn(|l| -i32::from((3 * l + c) / 8 == k)));
+            let [a, b, d] = words.map(|w| permute(w, lane));
+            let v = word(0).blend(a, word(1).blend(b, d));
             (gather_i32(screen, v + v), gather_i32(screen, v + v + I8::splat(1)))
         };
         let [(x0, y0), (x1, y1), (x2, y2)] = [vertex(0), vertex(1), vertex(2)];
@@ -131,19 +133,25 @@ impl LaneCull {
         let (width, height) = (max[0] - min[0] + I8::splat(1), max[1] - min[1] + I8::splat(1));
         let tested =
             (width * height * I8::splat(self.offsets.len() as i32)).cmp_lt(I8::splat(TESTED_IN_SETUP as i32 + 1));
+        let in_box = TESTED_PIXELS.map(|[dx, dy]| width.cmp_gt(I8::splat(dx)) & height.cmp_gt(I8::splat(dy)));
+        let pixel = |v: I8| v << SUBPIXEL_BITS as i32;
+        // The sign bit set where a sample of the box is covered: all three edge values there are >= 0.
         let mut covered = zero;
         for offset in &self.offsets {
-            for [dx, dy] in TESTED_PIXELS {
-                let (dx, dy) = (I8::splat(dx), I8::splat(dy));
-                let inside_box = width.cmp_gt(dx) & height.cmp_gt(dy);
-                let sx = ((min[0] + dx) << SUBPIXEL_BITS as i32) + offset[0];
-                let sy = ((min[1] + dy) << SUBPIXEL_BITS as i32) + offset[1];
-                let inside = edges.iter().fold(inside_box, |inside, &(a, b, xa, ya, bias)| {
-                    inside & (a * (sx - xa) + b * (sy - ya) + bias).cmp_gt(I8::splat(-1))
-                });
-                covered |= inside;
+            let (sx, sy) = (pixel(min[0]) + offset[0], pixel(min[1]) + offset[1]);
+            // Each edge at the box's first sample, then a pixel's step at a time to the others of
+            // `TESTED_PIXELS`, in its order.
+            let values = edges.map(|(a, b, xa, ya, bias)| {
+                let first = a * (sx - xa) + b * (sy - ya) + bias;
+                let (step_x, step_y) = (pixel(a), pixel(b));
+                let (right, down) = (first + step_x, first + step_y);
+                let (right2, down2) = (right + step_x, down + step_y);
+                [first, right, right2, right2 + step_x, down, down + step_x, down2, down2 + step_y]
+            });
+            for (c, &in_box) in in_box.iter().enumerate() {
+                covered |= in_box & !(values[0][c] | values[1][c] | values[2][c]);
             }
         }
-        tested & !covered
+        tested & covered.cmp_gt(I8::splat(-1))
     }
 }
