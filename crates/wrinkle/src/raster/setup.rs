@@ -7,7 +7,7 @@ use super::cull_lanes::LaneCull;
 use super::exact::{Outline, OUTLINE_MARGIN_PX};
 use super::samples::SamplePattern;
 use super::SUBPIXEL;
-use crate::lanes::{to_bits, CmpGe, CmpLe, F8, I8, LANES, V3};
+use crate::lanes::{prefetch, to_bits, CmpGe, CmpLe, F8, I8, LANES, V3};
 use crate::stream;
 use glam::{Affine3A, Vec2, Vec3, Vec4};
 use rayon::prelude::*;
@@ -353,6 +353,9 @@ impl<'a> TriangleSetup<'a> {
         let mut rest = Vec::new();
         if let Some(lanes) = &lanes {
             for start in (0..whole).step_by(LANES) {
+                // Eight triangles are a line and a half: two asks reach every line.
+                prefetch(mesh.triangles, start + PREFETCH_AHEAD);
+                prefetch(mesh.triangles, start + PREFETCH_AHEAD + LANES / 2);
                 let (x, y) = LaneCull::corners(screen, &mesh.triangles[start..start + LANES]);
                 let (mut kept, mut unsure) = lanes.keep8(x, y);
                 // Along an outline the box widens by a margin: those are left to `keep`.
@@ -613,6 +616,10 @@ fn set_bits(words: &[u64]) -> impl Iterator<Item = usize> + '_ {
 /// The most samples (pixels of its box times samples a pixel) a triangle's setup tests for coverage: more
 /// are left to the rasterizer, which walks them anyway.
 pub(super) const TESTED_IN_SETUP: i64 = 4;
+
+/// How many triangles ahead the lanes' count asks the cache for the indices: they stream from memory, and
+/// the count waited on them for a third of its time (about 2 KB ahead, 0.5 ms of 2.5 a million triangles).
+const PREFETCH_AHEAD: usize = 192;
 
 /// The edge functions E = A x + B y + C of a triangle with positive area (fixed point), E >= 0 inside, with
 /// the fill rule in C: a sample exactly on an edge belongs to the triangle for which (A, B) points "right or
