@@ -1,8 +1,8 @@
 //! The setup's count of a mesh's kept triangles, eight at a time on lanes: the decisions of
 //! `TriangleSetup::keep` (area, facing, box on the screen, a tiny triangle's samples) in 32-bit integers.
-//! They are exact where a triangle spans less than `EXTENT` on each axis and lies within `REACH` of the
+//! They are exact where a triangle spans at most `EXTENT` on each axis and lies within `REACH` of the
 //! screen's corner; the lanes leave every other triangle (and those that need clipping) to `keep`. A
-//! million-triangle mesh's count, one triangle at a time, took a sixth of its frame.
+//! million-triangle mesh's count, one triangle at a time, took an eighth of its frame.
 
 use super::setup::{Cull, TESTED_IN_SETUP};
 use super::SUBPIXEL_BITS;
