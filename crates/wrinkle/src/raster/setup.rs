@@ -345,7 +345,7 @@ impl<'a> TriangleSetup<'a> {
     /// which of the mesh's triangles give any.
     pub fn count_triangles(&mut self, mesh: ProjectedMesh) -> Counted {
         let n = mesh.triangles.len();
-        let mut counted = Counted { count: 0, kept: vec![0; n.div_ceil(64)] };
+        let mut counted = Counted::nothing_of(n);
         // Eight at a time on lanes where they decide exactly; the rest, and the tail, one by one.
         let screen = mesh.vertices.screen.as_flattened();
         let lanes = (screen.len() <= i32::MAX as usize).then(|| self.lane_cull(mesh.cull)).flatten();
@@ -369,10 +369,7 @@ impl<'a> TriangleSetup<'a> {
                 rest.extend(set_bits(&[u64::from(unsure)]).map(|l| start + l));
             }
         }
-        self.each_kept(mesh, rest.into_iter().chain(whole..n), false, |_, _, _, k| {
-            counted.kept[k / 64] |= 1 << (k % 64);
-            counted.count += 1;
-        });
+        self.each_kept(mesh, rest.into_iter().chain(whole..n), false, |_, _, _, k| counted.mark(k));
         counted
     }
 
@@ -556,6 +553,19 @@ impl<'a> TriangleSetup<'a> {
 pub struct Counted {
     pub count: usize,
     kept: Vec<u64>,
+}
+
+impl Counted {
+    /// None kept yet of a mesh's `n` triangles.
+    fn nothing_of(n: usize) -> Counted {
+        Counted { count: 0, kept: vec![0; n.div_ceil(64)] }
+    }
+
+    /// Triangle `k` gives one triangle more.
+    fn mark(&mut self, k: usize) {
+        self.kept[k / 64] |= 1 << (k % 64);
+        self.count += 1;
+    }
 }
 
 /// `x.round() as i32` per lane (halves away from zero), for |x| below 2^31; other lanes are undefined.
@@ -816,11 +826,8 @@ mod tests {
                             cull,
                             outline,
                         };
-                        let mut one_by_one = Counted { count: 0, kept: vec![0; triangles.len().div_ceil(64)] };
-                        setup.each_kept(mesh, 0..triangles.len(), false, |_, _, _, k| {
-                            one_by_one.kept[k / 64] |= 1 << (k % 64);
-                            one_by_one.count += 1;
-                        });
+                        let mut one_by_one = Counted::nothing_of(triangles.len());
+                        setup.each_kept(mesh, 0..triangles.len(), false, |_, _, _, k| one_by_one.mark(k));
                         let on_lanes = setup.count_triangles(mesh);
                         assert_eq!(on_lanes.count, one_by_one.count, "{} spp, {cull:?}", pattern.count());
                         assert!(on_lanes.kept == one_by_one.kept, "{} spp, {cull:?}: other triangles", pattern.count());
