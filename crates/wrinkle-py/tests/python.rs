@@ -98,6 +98,8 @@ fn python_package_tests_and_examples() {
         .env("PYTHONPATH", &stage)
         .env("WRINKLE_REPO", &repo)
         .env("MPLBACKEND", "Agg")
+        // pytest's report reaches the log even where an interpreter dies (Ray's driver aborting).
+        .env("PYTHONUNBUFFERED", "1")
         .env("WRINKLE_PORTABLE_STAGED", if portable.is_some() { "1" } else { "0" })
         .current_dir(&repo);
     if cli.exists() {

@@ -228,8 +228,11 @@ def _run(ray, submit, jobs: list, on_result, bar: _Bar) -> None:
                 on_result(job, result)
                 bar.step()
     finally:
+        # Not force=True: killing a worker while its task completes or is retried aborted Ray's own driver
+        # (task_manager.cc, "Tried to complete task that was not pending"). Queued tasks are dropped; a
+        # running one ends with its current frame or tile, and its result is not read.
         for ref in running:
-            ray.cancel(ref, force=True)
+            ray.cancel(ref)
         bar.close()
 
 
