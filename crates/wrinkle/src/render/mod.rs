@@ -1117,7 +1117,7 @@ impl<'a> TileJob<'a> {
                     footprint,
                     uv1: m.uv1.as_ref(),
                     triangles,
-                    mesh: Some(m.orientation),
+                    mesh: Some(&m.orientation),
                 }
             }
         };

@@ -142,7 +142,7 @@ pub struct SurfaceSamples8<'a> {
     pub triangles: [u32; LANES],
     /// What a mesh adds: which way Pu x Pv points and its own tangent frame. `None` on parametric
     /// surfaces, whose Pu x Pv is the outward normal and whose tangent runs along Pu.
-    pub mesh: Option<MeshFrame8>,
+    pub mesh: Option<&'a MeshFrame8>,
 }
 
 impl ShadeContext<'_> {
