@@ -33,7 +33,7 @@ pub(crate) mod lanes;
 pub mod light;
 pub mod limits;
 pub mod mapping;
-mod pages;
+pub mod pages;
 pub mod procedural;
 pub(crate) mod raster;
 pub mod render;
