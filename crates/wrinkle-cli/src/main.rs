@@ -2,10 +2,6 @@
 
 use std::process::ExitCode;
 
-/// Large buffers (a mesh's arrays, a frame's triangles) in 2 MB pages: fewer TLB misses.
-#[global_allocator]
-static ALLOCATOR: wrinkle::pages::HugePageAllocator = wrinkle::pages::HugePageAllocator;
-
 fn main() -> ExitCode {
     remove_temporaries_on_signals();
     match wrinkle_cli::execute(std::env::args_os()) {

@@ -5,10 +5,6 @@
 
 use pyo3::prelude::*;
 
-/// Large buffers (a mesh's arrays, a frame's triangles) in 2 MB pages, as in the `wrinkle` command.
-#[global_allocator]
-static ALLOCATOR: wrinkle::pages::HugePageAllocator = wrinkle::pages::HugePageAllocator;
-
 mod arrays;
 mod command;
 mod errors;

@@ -33,7 +33,7 @@ pub(crate) mod lanes;
 pub mod light;
 pub mod limits;
 pub mod mapping;
-pub mod pages;
+mod pages;
 pub mod procedural;
 pub(crate) mod raster;
 pub mod render;

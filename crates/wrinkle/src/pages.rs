@@ -1,12 +1,10 @@
-//! Large buffers in 2 MB pages where the system offers them (Linux's transparent huge pages, on request):
-//! texture levels in buffers of their own that start on a 2 MB boundary (`PageBuffer`), and every other
-//! large allocation of a program that makes `HugePageAllocator` its global allocator.
+//! Large buffers in 2 MB pages where the system offers them (Linux's transparent huge pages, on request).
 //!
 //! A random texture lookup on a level larger than the caches misses the TLB as well as the caches: a 4096^2
 //! RGBA8 level spans 16,384 pages of 4 KB, far more than a core's TLB holds, and in a virtual machine each
 //! page walk is itself a walk through the host's tables. In 2 MB pages the same level is 32 pages.
 
-use std::alloc::{self, GlobalAlloc, Layout, System};
+use std::alloc::{self, Layout};
 use std::ops::{Deref, DerefMut};
 use std::ptr::NonNull;
 
@@ -102,60 +100,6 @@ impl<T: Zeroable> Drop for PageBuffer<T> {
     }
 }
 
-/// The system's allocator, with every allocation of `HUGE_FROM_BYTES` or more advised into 2 MB pages
-/// where it covers whole aligned ones: a program's global allocator (`#[global_allocator]`), so that a
-/// large mesh's arrays, a frame's set-up triangles and projected vertices, and the frame itself are in 2 MB
-/// pages without each being made by its own allocator. The advice is given before the caller writes, so
-/// fresh memory is backed by 2 MB pages as it is first touched. Measured on a 1M-triangle mesh frame: about
-/// 2 ms of 37 (BENCHMARKS.md).
-pub struct HugePageAllocator;
-
-// SAFETY: every call is the system allocator's own; the advice changes how pages back the memory, never its
-// contents or whether it is mapped.
-unsafe impl GlobalAlloc for HugePageAllocator {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        // SAFETY: the caller's layout, as `GlobalAlloc::alloc` asks.
-        let ptr = unsafe { System.alloc(layout) };
-        advise_huge(ptr, layout.size());
-        ptr
-    }
-
-    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        // SAFETY: as in `alloc`.
-        let ptr = unsafe { System.alloc_zeroed(layout) };
-        advise_huge(ptr, layout.size());
-        ptr
-    }
-
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: `ptr` came from `System` with this layout (every allocation here is the system's).
-        unsafe { System.dealloc(ptr, layout) }
-    }
-
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        // SAFETY: as in `dealloc`; the caller's new size.
-        let ptr = unsafe { System.realloc(ptr, layout, new_size) };
-        advise_huge(ptr, new_size);
-        ptr
-    }
-}
-
-/// Advises the whole 2 MB pages within `bytes` at `ptr` into 2 MB pages, from `HUGE_FROM_BYTES` on Linux.
-/// A refusal (no transparent huge pages) leaves the memory as it was.
-fn advise_huge(ptr: *mut u8, bytes: usize) {
-    #[cfg(target_os = "linux")]
-    if !ptr.is_null() && bytes >= HUGE_FROM_BYTES {
-        let start = (ptr as usize).next_multiple_of(HUGE_PAGE);
-        let end = (ptr as usize + bytes) / HUGE_PAGE * HUGE_PAGE;
-        if end > start {
-            // SAFETY: the range lies within one live allocation; advice neither maps nor unmaps memory.
-            unsafe { libc::madvise(start as *mut libc::c_void, end - start, libc::MADV_HUGEPAGE) };
-        }
-    }
-    #[cfg(not(target_os = "linux"))]
-    let _ = (ptr, bytes);
-}
-
 /// `bytes` of zeroed memory starting on a 2 MB boundary, advised into 2 MB pages: `None` below
 /// `HUGE_FROM_BYTES`, off Linux, or where the system refuses the mapping (the allocator is asked then).
 #[cfg(target_os = "linux")]
@@ -190,7 +134,9 @@ fn map_huge(bytes: usize) -> Option<NonNull<u8>> {
     if tail > 0 {
         unmap(end as *mut u8, tail);
     }
-    advise_huge(start as *mut u8, bytes);
+    // Advice only: where transparent huge pages are off, the memory stays in small pages and works the same.
+    // SAFETY: [start, start + bytes) lies within the mapping kept above.
+    unsafe { libc::madvise(start as *mut libc::c_void, bytes, libc::MADV_HUGEPAGE) };
     NonNull::new(start as *mut u8)
 }
 
@@ -239,52 +185,6 @@ mod tests {
             let c = b.clone();
             drop(b);
             assert!(c.iter().enumerate().all(|(k, &v)| v == k as u64 * 3));
-        }
-    }
-
-    /// The VmFlags of the mapping of this process that holds `address`, from /proc/self/smaps.
-    #[cfg(target_os = "linux")]
-    fn vm_flags_at(address: usize) -> Vec<String> {
-        let smaps = std::fs::read_to_string("/proc/self/smaps").expect("/proc/self/smaps");
-        let mut inside = false;
-        for line in smaps.lines() {
-            let range = line.split_whitespace().next().and_then(|r| r.split_once('-'));
-            if let Some((Ok(lo), Ok(hi))) =
-                range.map(|(a, b)| (usize::from_str_radix(a, 16), usize::from_str_radix(b, 16)))
-            {
-                inside = (lo..hi).contains(&address);
-            } else if let Some(flags) = line.strip_prefix("VmFlags:").filter(|_| inside) {
-                return flags.split_whitespace().map(str::to_owned).collect();
-            }
-        }
-        panic!("no mapping holds {address:#x}");
-    }
-
-    /// The allocator advises a large allocation's whole 2 MB pages (the kernel marks their mapping `hg`),
-    /// and a reallocation's; the memory keeps what is written through the reallocation.
-    #[test]
-    #[cfg(target_os = "linux")]
-    fn the_allocator_advises_large_allocations_into_huge_pages() {
-        let thp = std::fs::read_to_string("/sys/kernel/mm/transparent_hugepage/enabled").unwrap_or_default();
-        let advisable = thp.contains("[madvise]") || thp.contains("[always]");
-        let alloc = HugePageAllocator;
-        let large = Layout::from_size_align(3 * HUGE_PAGE + 12_345, 8).unwrap();
-        // SAFETY: the layout has a size; the block is freed once, after its reallocation, with the new size.
-        unsafe {
-            let l = alloc.alloc(large);
-            assert!(!l.is_null());
-            let middle = (l as usize).next_multiple_of(HUGE_PAGE);
-            if advisable {
-                assert!(vm_flags_at(middle).iter().any(|f| f == "hg"), "{:?}", vm_flags_at(middle));
-            }
-            std::ptr::write_bytes(l, 7, large.size());
-            let grown = alloc.realloc(l, large, 2 * large.size());
-            assert!((0..large.size()).step_by(4093).all(|k| *grown.add(k) == 7));
-            if advisable {
-                let middle = (grown as usize + large.size()).next_multiple_of(HUGE_PAGE);
-                assert!(vm_flags_at(middle).iter().any(|f| f == "hg"));
-            }
-            alloc.dealloc(grown, Layout::from_size_align(2 * large.size(), 8).unwrap());
         }
     }
 
