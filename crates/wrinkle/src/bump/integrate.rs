@@ -61,7 +61,18 @@ pub fn settle_heights(heights: &mut [f32], normalize: bool) -> f32 {
 /// Heights (up to a constant; mean zero over the field) whose gradient is nearest to (p, q) in the least
 /// squares sense. `p` is dh/dx with x to the right, `q` is dh/dy with y down the rows, both per pixel,
 /// row 0 at the top, `width * height` values each.
+///
+/// # Panics
+/// Where `p` or `q` does not hold `width * height` values (the message says which and how many).
 pub fn frankot_chellappa(p: &[f32], q: &[f32], width: usize, height: usize, wrap: bool) -> Vec<f32> {
+    let n = width.checked_mul(height);
+    for (name, slope) in [("p", p), ("q", q)] {
+        assert!(
+            n == Some(slope.len()),
+            "frankot_chellappa: {name} holds {} values, not width * height = {width} x {height}",
+            slope.len()
+        );
+    }
     if width == 0 || height == 0 {
         return Vec::new();
     }
@@ -168,6 +179,13 @@ mod tests {
         }
         let got = frankot_chellappa(&p, &q, w, h, true);
         assert!(rms_after_mean(&got, &want) < 1e-4, "{}", rms_after_mean(&got, &want));
+    }
+
+    /// Slopes of another size than the field's are refused with a message naming them, not read past.
+    #[test]
+    #[should_panic(expected = "q holds 11 values, not width * height = 4 x 3")]
+    fn slopes_of_the_wrong_size_are_named() {
+        frankot_chellappa(&[0.0; 12], &[0.0; 11], 4, 3, false);
     }
 
     #[test]
